@@ -1,0 +1,12 @@
+// commands.h: the subcommands of the `retroprism` command-line tool. Each takes the
+// arguments after its name (argv[0] is the subcommand) and returns the exit status.
+#pragma once
+
+namespace retroprism {
+
+int cmd_eval(int argc, const char** argv);
+int cmd_era(int argc, const char** argv);
+int cmd_albedo(int argc, const char** argv);
+int cmd_demo(int argc, const char** argv);
+
+} // namespace retroprism

@@ -1,0 +1,207 @@
+#include "query.h"
+
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+namespace retroprism {
+
+using nlohmann::json;
+
+json read_json(const std::string& path) {
+    std::string text;
+    if (path == "-") {
+        std::stringstream ss;
+        ss << std::cin.rdbuf();
+        text = ss.str();
+    } else {
+        std::ifstream in(path, std::ios::binary);
+        if (!in) throw InputError(path + ": cannot open file");
+        std::stringstream ss;
+        ss << in.rdbuf();
+        text = ss.str();
+    }
+    const std::string name = path == "-" ? "<stdin>" : path;
+    try {
+        return json::parse(text);
+    } catch (const json::parse_error& e) {
+        // Report the line and column of the byte offset nlohmann gives.
+        size_t line = 1, col = 1;
+        for (size_t i = 0; i < e.byte && i < text.size(); ++i) {
+            if (text[i] == '\n') {
+                ++line;
+                col = 1;
+            } else {
+                ++col;
+            }
+        }
+        throw InputError(name + ":" + std::to_string(line) + ":" + std::to_string(col) +
+                         ": invalid JSON (" + e.what() + ")");
+    }
+}
+
+namespace {
+
+std::string range_text(double lo, double hi) {
+    std::ostringstream ss;
+    ss << "[" << lo << ", " << hi << "]";
+    return ss.str();
+}
+
+double number_in_range(const json& v, const std::string& field, double lo, double hi) {
+    if (!v.is_number()) throw InputError(field + ": expected a number in " + range_text(lo, hi));
+    double x = v.get<double>();
+    if (!std::isfinite(x) || x < lo || x > hi) {
+        std::ostringstream ss;
+        ss << field << " = " << x << " is outside its range " << range_text(lo, hi);
+        throw InputError(ss.str());
+    }
+    return x;
+}
+
+Vec3d vector3(const json& v, const std::string& field, double lo, double hi) {
+    if (!v.is_array() || v.size() != 3)
+        throw InputError(field + ": expected an array of 3 numbers in " + range_text(lo, hi));
+    Vec3d out;
+    for (int c = 0; c < 3; ++c)
+        out[c] = number_in_range(v[c], field + "[" + std::to_string(c) + "]", lo, hi);
+    return out;
+}
+
+Vec3d direction(const json& v, const std::string& field) {
+    const double big = 1e30;
+    Vec3d d = vector3(v, field, -big, big);
+    double len2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    if (!(len2 > 0)) throw InputError(field + ": a direction must not be the zero vector");
+    return d;
+}
+
+Vec3d direction_deg(const json& v, const std::string& field) {
+    if (!v.is_array() || v.size() != 2)
+        throw InputError(field + ": expected [theta, phi] in degrees, theta in [0, 180]");
+    double theta = number_in_range(v[0], field + "[0] (theta)", 0.0, 180.0);
+    double phi = number_in_range(v[1], field + "[1] (phi)", -360.0, 360.0);
+    const double t = theta * M_PI / 180.0, p = phi * M_PI / 180.0;
+    return {std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)};
+}
+
+} // namespace
+
+Params params_from_json(const json& j, const std::string& where) {
+    if (!j.is_object()) throw InputError(where + ": expected an object of node inputs");
+    Params p;
+    for (auto it = j.begin(); it != j.end(); ++it) {
+        const std::string field = where + "." + it.key();
+        const ParamInfo* info = find_param(it.key());
+        if (!info) {
+            std::string names;
+            for (const ParamInfo& i : param_table()) names += std::string(names.empty() ? "" : ", ") + i.name;
+            throw InputError(field + ": unknown input (inputs: " + names + ")");
+        }
+        const json& v = it.value();
+        const std::string name = info->name;
+#define RP_FLOAT(n, def, lo, hi, doc)                                                              \
+    if (name == #n) p.n = number_in_range(v, field, lo, hi);
+#define RP_COLOR(n, r, g, b, doc)                                                                  \
+    if (name == #n) p.n = vector3(v, field, 0.0, 1.0);
+#define RP_ENUM(n, def, values, doc)                                                               \
+    if (name == #n) {                                                                              \
+        int idx = v.is_string() ? enum_index(*info, v.get<std::string>()) : -1;                    \
+        if (idx < 0) throw InputError(field + ": expected one of \"" values "\"");                 \
+        p.n = idx;                                                                                 \
+    }
+#define RP_VECTOR(n, x, y, z, geomprop, doc)                                                       \
+    if (name == #n) p.n = direction(v, field);
+#include "prismatic_retroreflector_params.def"
+#undef RP_FLOAT
+#undef RP_COLOR
+#undef RP_ENUM
+#undef RP_VECTOR
+    }
+    return p;
+}
+
+json params_to_json(const Params& p) {
+    json j = json::object();
+#define RP_FLOAT(n, def, lo, hi, doc) j[#n] = p.n;
+#define RP_COLOR(n, r, g, b, doc) j[#n] = p.n;
+#define RP_ENUM(n, def, values, doc) j[#n] = enum_values(*find_param(#n)).at(size_t(p.n));
+#define RP_VECTOR(n, x, y, z, geomprop, doc) j[#n] = p.n;
+#include "prismatic_retroreflector_params.def"
+#undef RP_FLOAT
+#undef RP_COLOR
+#undef RP_ENUM
+#undef RP_VECTOR
+    return j;
+}
+
+Query parse_query(const json& j, const std::string& source) {
+    if (!j.is_object()) throw InputError(source + ": expected an object with \"material\" and \"samples\"");
+    for (auto it = j.begin(); it != j.end(); ++it)
+        if (it.key() != "material" && it.key() != "samples")
+            throw InputError(source + ": unknown field \"" + it.key() + "\" (fields: material, samples)");
+    Query q;
+    if (j.contains("material")) q.material = params_from_json(j["material"], source + ": material");
+    if (!j.contains("samples") || !j["samples"].is_array())
+        throw InputError(source + ": \"samples\" must be an array of {\"wi\", \"wo\"} or {\"wi_deg\", \"wo_deg\"}");
+    const json& samples = j["samples"];
+    q.samples.reserve(samples.size());
+    for (size_t i = 0; i < samples.size(); ++i) {
+        const std::string where = source + ": samples[" + std::to_string(i) + "]";
+        const json& s = samples[i];
+        if (!s.is_object()) throw InputError(where + ": expected an object");
+        DirectionPair d;
+        const bool cart = s.contains("wi") || s.contains("wo");
+        const bool deg = s.contains("wi_deg") || s.contains("wo_deg");
+        if (cart == deg || s.size() != 2)
+            throw InputError(where + ": give exactly \"wi\" and \"wo\" ([x, y, z]) or \"wi_deg\" and \"wo_deg\" ([theta, phi])");
+        if (cart) {
+            if (!s.contains("wi") || !s.contains("wo")) throw InputError(where + ": needs both \"wi\" and \"wo\"");
+            d.wi = direction(s["wi"], where + ".wi");
+            d.wo = direction(s["wo"], where + ".wo");
+        } else {
+            if (!s.contains("wi_deg") || !s.contains("wo_deg"))
+                throw InputError(where + ": needs both \"wi_deg\" and \"wo_deg\"");
+            d.wi = direction_deg(s["wi_deg"], where + ".wi_deg");
+            d.wo = direction_deg(s["wo_deg"], where + ".wo_deg");
+        }
+        q.samples.push_back(d);
+    }
+    return q;
+}
+
+std::vector<std::string> backend_names() { return {"cpp-double", "cpp-float"}; }
+
+namespace {
+
+template <class Real> json answer_cpp(const Query& q, const std::string& name) {
+    using Node = PrismaticRetroreflector<Real>;
+    using vec3 = typename Node::vec3;
+    Node node(q.material);
+    json results = json::array();
+    auto rgb = [](const vec3& v) { return json::array({double(v.x), double(v.y), double(v.z)}); };
+    for (const DirectionPair& s : q.samples) {
+        vec3 wi(Real(s.wi[0]), Real(s.wi[1]), Real(s.wi[2]));
+        vec3 wo(Real(s.wo[0]), Real(s.wo[1]), Real(s.wo[2]));
+        typename Node::Eval e = node.eval(wi, wo);
+        results.push_back({{"f", rgb(e.f.total())},
+                           {"surface", rgb(e.f.surface)},
+                           {"retro", rgb(e.f.retro)},
+                           {"diffuse", rgb(e.f.diffuse)},
+                           {"pdf", double(e.pdf)}});
+    }
+    return {{"backend", name}, {"results", results}};
+}
+
+} // namespace
+
+json answer_query(const Query& q, const std::string& backend) {
+    if (backend == "cpp-double") return answer_cpp<double>(q, backend);
+    if (backend == "cpp-float") return answer_cpp<float>(q, backend);
+    std::string names;
+    for (const std::string& n : backend_names()) names += (names.empty() ? "" : ", ") + n;
+    throw InputError("--backend " + backend + ": unknown backend (backends: " + names + ")");
+}
+
+} // namespace retroprism

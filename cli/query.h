@@ -1,0 +1,51 @@
+// query.h: the JSON interface every backend answers (`retroprism eval`), and the material
+// reader shared by the commands. Inputs are named and ranged by the node's parameter table.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "prismatic_retroreflector.h"
+
+namespace retroprism {
+
+// A user input error; the message names the source (file), the field and what was expected.
+class InputError : public std::runtime_error {
+  public:
+    using std::runtime_error::runtime_error;
+};
+
+// Reads a JSON document from a file, or from standard input when path is "-".
+nlohmann::json read_json(const std::string& path);
+
+// The node's parameters from a JSON object {<input>: value}: floats as numbers, colours as
+// [r, g, b], enums as one of their strings, vectors as [x, y, z]. Omitted inputs take their
+// defaults; unknown names, wrong types and values outside the table's range are InputErrors
+// naming `where` (e.g. "query.json: material").
+Params params_from_json(const nlohmann::json& j, const std::string& where);
+nlohmann::json params_to_json(const Params& p);
+
+struct DirectionPair {
+    Vec3d wi;
+    Vec3d wo;
+};
+
+struct Query {
+    Params material;
+    std::vector<DirectionPair> samples;
+};
+
+// {"material": {...}, "samples": [{"wi": [x,y,z], "wo": [x,y,z]} | {"wi_deg": [theta, phi],
+// "wo_deg": [theta, phi]}, ...]}. Directions need not be unit; they must be finite.
+Query parse_query(const nlohmann::json& j, const std::string& source);
+
+// The backends that answer queries, and one answer:
+// {"backend": name, "results": [{"f", "surface", "retro", "diffuse", "pdf"}, ...]}.
+std::vector<std::string> backend_names();
+nlohmann::json answer_query(const Query& q, const std::string& backend);
+
+} // namespace retroprism

@@ -1,0 +1,118 @@
+// prism_core.h: the C++ instantiations of the model's math core (prism_core.inc), in float
+// (namespace retroprism::f32) and double (retroprism::f64). The core is written once in the
+// common subset of C++ and GLSL; this header supplies its C++ prelude.
+#pragma once
+
+#include <cmath>
+
+#include <glm/glm.hpp>
+
+#define RP_FN inline
+#define RP_OUT(T) T&
+#define RP_IN(T) const T&
+#define RP_TABLE_BEGIN(name, n) inline const real name[n] = {
+#define RP_TABLE_END };
+
+#define RP_CORE_PRELUDE                                                                            \
+    using std::abs;                                                                                \
+    using std::acos;                                                                               \
+    using std::cos;                                                                                \
+    using std::exp;                                                                                \
+    using std::log;                                                                                \
+    using std::pow;                                                                                \
+    using std::sin;                                                                                \
+    using std::sqrt;                                                                               \
+    using glm::clamp;                                                                              \
+    using glm::cross;                                                                              \
+    using glm::dot;                                                                                \
+    using glm::length;                                                                             \
+    using glm::max;                                                                                \
+    using glm::min;                                                                                \
+    using glm::mix;                                                                                \
+    using glm::normalize;                                                                          \
+    inline real rp_erf(real x) { return std::erf(x); }                                             \
+    inline real rp_erfc(real x) { return std::erfc(x); }
+
+namespace retroprism {
+
+// Newton steps on std::erf after Giles' approximation: float reaches its rounding after one,
+// double after two (each step squares the relative error of ~4e-7).
+#define RP_ERFINV_REFINED(STEPS)                                                                   \
+    inline real rp_erfinv(real y) {                                                                \
+        real x = rp_erfinv_giles(y);                                                               \
+        for (int i = 0; i < STEPS; ++i) {                                                          \
+            real err = std::erf(x) - y;                                                            \
+            x -= err / (real(1.1283791670955126) * std::exp(-x * x));                              \
+        }                                                                                          \
+        return x;                                                                                  \
+    }
+
+namespace f32 {
+using real = float;
+using vec2 = glm::vec2;
+using vec3 = glm::vec3;
+RP_CORE_PRELUDE
+#include "prism_special.inc"
+RP_ERFINV_REFINED(1)
+#ifdef RP_BOOTSTRAP_TABLES
+#include "prism_tables_bootstrap.inc"
+#else
+#include "generated/prism_tables.inc"
+#endif
+#include "prism_core.inc"
+} // namespace f32
+
+namespace f64 {
+using real = double;
+using vec2 = glm::dvec2;
+using vec3 = glm::dvec3;
+RP_CORE_PRELUDE
+#include "prism_special.inc"
+RP_ERFINV_REFINED(2)
+#ifdef RP_BOOTSTRAP_TABLES
+#include "prism_tables_bootstrap.inc"
+#else
+#include "generated/prism_tables.inc"
+#endif
+#include "prism_core.inc"
+} // namespace f64
+
+// The core of a given precision as one type: core<float> forwards to f32, core<double> to f64.
+template <class Real> struct core;
+#define RP_CORE_DISPATCH(REAL, NS)                                                                 \
+    template <> struct core<REAL> {                                                                \
+        using real = REAL;                                                                         \
+        using vec2 = NS::vec2;                                                                     \
+        using vec3 = NS::vec3;                                                                     \
+        using material = NS::rp_material;                                                          \
+        using lobes = NS::rp_lobes;                                                                \
+        using incident = NS::rp_incident;                                                          \
+        static bool eval(const material& m, vec3 wi, vec3 wo, lobes& r, real& pdf) {               \
+            return NS::rp_eval(m, wi, wo, r, pdf);                                                 \
+        }                                                                                          \
+        static bool sample(const material& m, vec3 wi, vec3 u, vec3& wo, lobes& r, real& pdf,      \
+                           int& lobe) {                                                            \
+            return NS::rp_sample(m, wi, u, wo, r, pdf, lobe);                                      \
+        }                                                                                          \
+        static void setup(const material& m, vec3 wi, incident& s) {                               \
+            NS::rp_incident_setup(m, wi, s);                                                       \
+        }                                                                                          \
+        static void eval_lobes(const material& m, const incident& s, vec3 wi, vec3 wo, lobes& r) { \
+            NS::rp_eval_lobes(m, s, wi, wo, r);                                                    \
+        }                                                                                          \
+        static vec3 lobe_sample(const material& m, const incident& s, vec3 wi, int lobe, real u1,  \
+                                real u2) {                                                         \
+            return NS::rp_lobe_sample(m, s, wi, lobe, u1, u2);                                     \
+        }                                                                                          \
+        static real lobe_pdf(const material& m, const incident& s, vec3 wi, vec3 wo, int lobe) {   \
+            return NS::rp_lobe_pdf(m, s, wi, wo, lobe);                                            \
+        }                                                                                          \
+    };
+RP_CORE_DISPATCH(float, f32)
+RP_CORE_DISPATCH(double, f64)
+#undef RP_CORE_DISPATCH
+
+} // namespace retroprism
+
+#undef RP_CORE_PRELUDE
+#undef RP_ERFINV_REFINED

@@ -1,0 +1,345 @@
+// prismatic_retroreflector.cpp: parameter handling, material preparation and the closure
+// wrapper around the math core (prism_core.inc).
+#include "prismatic_retroreflector.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "quadrature.h"
+
+namespace retroprism {
+
+const std::vector<ParamInfo>& param_table() {
+    static const std::vector<ParamInfo> table = {
+#define RP_FLOAT(name, def, lo, hi, doc)                                                           \
+    {#name, ParamType::Float, {def, 0, 0}, lo, hi, "", "", doc},
+#define RP_COLOR(name, r, g, b, doc) {#name, ParamType::Color, {r, g, b}, 0.0, 1.0, "", "", doc},
+#define RP_ENUM(name, def, values, doc)                                                            \
+    {#name, ParamType::Enum, {def, 0, 0}, 0, 0, values, "", doc},
+#define RP_VECTOR(name, x, y, z, geomprop, doc)                                                    \
+    {#name, ParamType::Vector, {x, y, z}, -1.0, 1.0, "", geomprop, doc},
+#include "prismatic_retroreflector_params.def"
+#undef RP_FLOAT
+#undef RP_COLOR
+#undef RP_ENUM
+#undef RP_VECTOR
+    };
+    return table;
+}
+
+const ParamInfo* find_param(const std::string& name) {
+    for (const ParamInfo& info : param_table())
+        if (name == info.name) return &info;
+    return nullptr;
+}
+
+std::vector<std::string> enum_values(const ParamInfo& info) {
+    std::vector<std::string> out;
+    std::stringstream ss(info.enum_values);
+    std::string item;
+    while (std::getline(ss, item, ',')) out.push_back(item);
+    return out;
+}
+
+int enum_index(const ParamInfo& info, const std::string& value) {
+    std::vector<std::string> values = enum_values(info);
+    auto it = std::find(values.begin(), values.end(), value);
+    return it == values.end() ? -1 : int(it - values.begin());
+}
+
+namespace {
+
+double clamp_or_default(double v, double lo, double hi, double def) {
+    if (std::isnan(v)) return def;
+    return std::min(std::max(v, lo), hi);
+}
+
+Vec3d unit_or(const Vec3d& v, const Vec3d& fallback) {
+    double len2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+    if (!(len2 > 0) || !std::isfinite(len2)) return fallback;
+    double s = 1.0 / std::sqrt(len2);
+    return {v[0] * s, v[1] * s, v[2] * s};
+}
+
+} // namespace
+
+Params sanitize(const Params& in) {
+    Params p = in;
+    const Params def;
+#define RP_FLOAT(name, d, lo, hi, doc) p.name = clamp_or_default(in.name, lo, hi, def.name);
+#define RP_COLOR(name, r, g, b, doc)                                                               \
+    for (int c = 0; c < 3; ++c) p.name[c] = clamp_or_default(in.name[c], 0.0, 1.0, def.name[c]);
+#define RP_ENUM(name, d, values, doc)                                                              \
+    if (in.name < 0 || in.name >= int(enum_values(*find_param(#name)).size())) p.name = def.name;
+#define RP_VECTOR(name, x, y, z, geomprop, doc)
+#include "prismatic_retroreflector_params.def"
+#undef RP_FLOAT
+#undef RP_COLOR
+#undef RP_ENUM
+#undef RP_VECTOR
+    // Vectors: only finite, non-zero ones count, as a unit normal and a tangent orthogonal
+    // to it (Gram-Schmidt; a tangent parallel to the normal is replaced).
+    bool finite = true;
+    for (int c = 0; c < 3; ++c) finite = finite && std::isfinite(in.normal[c]);
+    p.normal = unit_or(finite ? in.normal : def.normal, def.normal);
+    const Vec3d& n = p.normal;
+    Vec3d t = in.tangent;
+    for (int c = 0; c < 3; ++c)
+        if (!std::isfinite(t[c])) t = def.tangent;
+    double tn = t[0] * n[0] + t[1] * n[1] + t[2] * n[2];
+    Vec3d tp = {t[0] - tn * n[0], t[1] - tn * n[1], t[2] - tn * n[2]};
+    double len2 = tp[0] * tp[0] + tp[1] * tp[1] + tp[2] * tp[2];
+    if (!(len2 > 1e-12)) {
+        // Any unit vector orthogonal to n (Duff et al. 2017, "Building an orthonormal basis").
+        double sign = std::copysign(1.0, n[2]);
+        double a = -1.0 / (sign + n[2]);
+        double b = n[0] * n[1] * a;
+        tp = {1.0 + sign * n[0] * n[0] * a, sign * b, -sign * n[0]};
+    }
+    p.tangent = unit_or(tp, def.tangent);
+    return p;
+}
+
+double fdr_external(double eta) {
+    const double n = eta;
+    if (!(n > 1.0)) return 0.0;
+    if (n < 1.01) {
+        // integral over u = cos^2 in [0, 1] of F(sqrt(u)), with u = v^2 to resolve grazing
+        auto f = [&](double v) { return 2.0 * v * f64::rp_fresnel_dielectric(v, n); };
+        return integrate_adaptive(f, 0.0, 1.0, 1e-14);
+    }
+    // Exact integral of the unpolarised Fresnel reflectance (verified against quadrature to
+    // 2e-10 relative for eta in [1.01, 3] by tests/test_physics.cpp).
+    const double n2 = n * n, n4 = n2 * n2;
+    return 0.5 + (n - 1) * (3 * n + 1) / (6 * (n + 1) * (n + 1)) +
+           n2 * (n2 - 1) * (n2 - 1) / ((n2 + 1) * (n2 + 1) * (n2 + 1)) * std::log((n - 1) / (n + 1)) -
+           2 * n2 * n * (n2 + 2 * n - 1) / ((n2 + 1) * (n4 - 1)) +
+           8 * n4 * (n4 + 1) / ((n2 + 1) * (n4 - 1) * (n4 - 1)) * std::log(n);
+}
+
+double fdr_internal(double eta) {
+    if (!(eta > 1.0)) return 0.0;
+    return 1.0 - (1.0 - fdr_external(eta)) / (eta * eta);
+}
+
+namespace {
+
+// Inner direction for tan(theta_t) = t at azimuth phi (unnormalised: only d_xy / |d_z| and the
+// face cosines' ratios matter, so it is normalised for the Fresnel terms).
+f64::vec3 inner_direction(double t, double phi) {
+    return glm::normalize(f64::vec3(t * std::cos(phi), t * std::sin(phi), -1.0));
+}
+
+const f64::vec2 kVertex1(1.0, 0.0);
+const f64::vec2 kVertex2(-0.5, 0.86602540378443864676);
+const f64::vec2 kVertex3(-0.5, -0.86602540378443864676);
+
+} // namespace
+
+double era_averaged_direct(double t) {
+    // A is periodic in azimuth with period 2 pi / 3 (the prism's three-fold symmetry).
+    auto f = [&](double phi) {
+        return f64::rp_era_oriented(inner_direction(t, phi), kVertex1, kVertex2, kVertex3);
+    };
+    const double period = 2.0 * f64::RP_PI / 3.0;
+    return integrate_adaptive(f, 0.0, period, 1e-13) / period;
+}
+
+double retro_fraction_tir_averaged_direct(double t, double eta) {
+    f64::rp_material m{};
+    m.prism_reflection = f64::RP_PRISM_TIR;
+    m.eta = eta;
+    m.vertex1 = kVertex1;
+    m.vertex2 = kVertex2;
+    m.vertex3 = kVertex3;
+    auto f = [&](double phi) { return f64::rp_retro_fraction_oriented(m, inner_direction(t, phi)); };
+    const double period = 2.0 * f64::RP_PI / 3.0;
+    return integrate_adaptive(f, 0.0, period, 1e-13) / period;
+}
+
+f64::rp_material prepare_material(const Params& p) {
+    f64::rp_material m{};
+    m.weight = p.weight;
+    m.specular = p.specular;
+    m.retro_color = f64::vec3(p.retro_color[0], p.retro_color[1], p.retro_color[2]);
+    m.diffuse_color = f64::vec3(p.diffuse_color[0], p.diffuse_color[1], p.diffuse_color[2]);
+    m.alpha = std::max(p.roughness, f64::RP_MIN_ALPHA);
+    m.eta = p.ior;
+    m.prism_reflection = p.prism_reflection;
+    m.metal_r3 = p.metal_reflectance * p.metal_reflectance * p.metal_reflectance;
+    m.era_mode = p.era_mode;
+    const double rot = p.orientation * f64::RP_PI / 180.0;
+    const double c = std::cos(rot), s = std::sin(rot);
+    auto rotate = [&](const f64::vec2& v) {
+        return f64::vec2(c * v.x - s * v.y, s * v.x + c * v.y);
+    };
+    m.vertex1 = rotate(kVertex1);
+    m.vertex2 = rotate(kVertex2);
+    m.vertex3 = rotate(kVertex3);
+    m.retro_anisotropic = p.retro_anisotropic ? 1 : 0;
+    const double fdrInt = fdr_internal(m.eta);
+    const double transExt = 1.0 - fdr_external(m.eta);
+    const double eta2 = m.eta * m.eta;
+    for (int k = 0; k < 3; ++k) {
+        const double kd = m.diffuse_color[k];
+        const double denom = 1.0 - kd * fdrInt; // >= 1 - F_dr > 0 for k_d <= 1
+        m.diffuse_scale[k] = kd / (f64::RP_PI * eta2 * denom);
+        m.diffuse_albedo[k] = kd * transExt / (eta2 * denom);
+    }
+    return m;
+}
+
+namespace {
+
+template <class Real> typename core<Real>::material round_material(const f64::rp_material& m);
+
+template <> f64::rp_material round_material<double>(const f64::rp_material& m) { return m; }
+
+template <> f32::rp_material round_material<float>(const f64::rp_material& m) {
+    f32::rp_material r{};
+    r.weight = float(m.weight);
+    r.specular = float(m.specular);
+    r.retro_color = f32::vec3(m.retro_color);
+    r.diffuse_color = f32::vec3(m.diffuse_color);
+    r.alpha = float(m.alpha);
+    r.eta = float(m.eta);
+    r.prism_reflection = m.prism_reflection;
+    r.metal_r3 = float(m.metal_r3);
+    r.era_mode = m.era_mode;
+    r.vertex1 = f32::vec2(m.vertex1);
+    r.vertex2 = f32::vec2(m.vertex2);
+    r.vertex3 = f32::vec2(m.vertex3);
+    r.retro_anisotropic = m.retro_anisotropic;
+    r.diffuse_scale = f32::vec3(m.diffuse_scale);
+    r.diffuse_albedo = f32::vec3(m.diffuse_albedo);
+    return r;
+}
+
+template <class V> V from_array(const Vec3d& a) {
+    using R = typename V::value_type;
+    return V(R(a[0]), R(a[1]), R(a[2]));
+}
+
+} // namespace
+
+template <class Real>
+PrismaticRetroreflector<Real>::PrismaticRetroreflector(const Params& params)
+    : params_(sanitize(params)), m_(round_material<Real>(prepare_material(params_))) {
+    n_ = from_array<vec3>(params_.normal);
+    t_ = from_array<vec3>(params_.tangent);
+    b_ = glm::cross(n_, t_);
+}
+
+template <class Real>
+bool PrismaticRetroreflector<Real>::to_local(const vec3& w, vec3& local) const {
+    Real len2 = glm::dot(w, w);
+    if (!(len2 > Real(0)) || !std::isfinite(len2)) return false;
+    vec3 u = w / std::sqrt(len2);
+    local = vec3(glm::dot(u, t_), glm::dot(u, b_), glm::dot(u, n_));
+    return true;
+}
+
+template <class Real>
+typename PrismaticRetroreflector<Real>::vec3
+PrismaticRetroreflector<Real>::to_world(const vec3& l) const {
+    return l.x * t_ + l.y * b_ + l.z * n_;
+}
+
+template <class Real>
+typename PrismaticRetroreflector<Real>::Eval
+PrismaticRetroreflector<Real>::eval(const vec3& wiWorld, const vec3& woWorld) const {
+    Eval out;
+    vec3 wi, wo;
+    if (!to_local(wiWorld, wi) || !to_local(woWorld, wo)) return out;
+    typename core<Real>::lobes r;
+    Real pdf = 0;
+    if (core<Real>::eval(m_, wi, wo, r, pdf)) {
+        out.f.surface = r.surface;
+        out.f.retro = r.retro;
+        out.f.diffuse = r.diffuse;
+        out.pdf = pdf;
+    }
+    return out;
+}
+
+template <class Real>
+Real PrismaticRetroreflector<Real>::pdf(const vec3& wi, const vec3& wo) const {
+    return eval(wi, wo).pdf;
+}
+
+template <class Real>
+std::optional<typename PrismaticRetroreflector<Real>::Sample>
+PrismaticRetroreflector<Real>::sample(const vec3& wiWorld, const vec3& u) const {
+    vec3 wi;
+    if (!to_local(wiWorld, wi)) return std::nullopt;
+    vec3 wo;
+    typename core<Real>::lobes r;
+    Real pdf = 0;
+    int lobe = -1;
+    if (!core<Real>::sample(m_, wi, u, wo, r, pdf, lobe)) return std::nullopt;
+    Sample s;
+    s.wo = to_world(wo);
+    s.f.surface = r.surface;
+    s.f.retro = r.retro;
+    s.f.diffuse = r.diffuse;
+    s.pdf = pdf;
+    s.lobe = lobe;
+    return s;
+}
+
+template <class Real>
+Real PrismaticRetroreflector<Real>::retro_fraction(const vec3& wiWorld) const {
+    vec3 wi;
+    if (!to_local(wiWorld, wi) || !(wi.z >= Real(f64::RP_MIN_COS))) return 0;
+    typename core<Real>::incident s;
+    core<Real>::setup(m_, wi, s);
+    return s.era;
+}
+
+template <class Real>
+typename PrismaticRetroreflector<Real>::Albedo
+PrismaticRetroreflector<Real>::albedo(const vec3& wiWorld, int grid) const {
+    Albedo out;
+    vec3 wi;
+    if (!to_local(wiWorld, wi) || !(wi.z >= Real(f64::RP_MIN_COS)) || !(m_.weight > 0)) return out;
+    typename core<Real>::incident s;
+    core<Real>::setup(m_, wi, s);
+    // Diffuse, exactly: T_i (1 - E) k_d (1 - F_dr_ext) / (eta^2 (1 - k_d F_dr)).
+    out.diffuse = m_.diffuse_albedo * (m_.weight * s.transI * (Real(1) - s.era));
+    // Surface and retro: E[f_k cos_o / pdf_k] over each lobe's sampling map, on a midpoint grid
+    // (the map covers the lobe's whole mass; directions below the horizon contribute 0).
+    const bool lobeOn[2] = {m_.specular > 0, s.era > 0 && (m_.retro_color.x > 0 ||
+                                                           m_.retro_color.y > 0 ||
+                                                           m_.retro_color.z > 0)};
+    for (int lobe = 0; lobe < 2; ++lobe) {
+        if (!lobeOn[lobe]) continue;
+        double sum[3] = {0, 0, 0};
+        for (int i = 0; i < grid; ++i) {
+            for (int j = 0; j < grid; ++j) {
+                Real u1 = (Real(i) + Real(0.5)) / Real(grid);
+                Real u2 = (Real(j) + Real(0.5)) / Real(grid);
+                vec3 wo = core<Real>::lobe_sample(m_, s, wi, lobe, u1, u2);
+                if (!(wo.z >= Real(f64::RP_MIN_COS))) continue;
+                Real pdf = core<Real>::lobe_pdf(m_, s, wi, wo, lobe);
+                if (!(pdf > 0)) continue;
+                typename core<Real>::lobes r;
+                core<Real>::eval_lobes(m_, s, wi, wo, r);
+                vec3 f = lobe == 0 ? r.surface : r.retro;
+                for (int c = 0; c < 3; ++c) sum[c] += double(f[c] * wo.z / pdf);
+            }
+        }
+        vec3 a = vec3(Real(sum[0]), Real(sum[1]), Real(sum[2]));
+        a /= Real(grid * grid);
+        if (lobe == 0)
+            out.surface = a;
+        else
+            out.retro = a;
+    }
+    return out;
+}
+
+template class PrismaticRetroreflector<float>;
+template class PrismaticRetroreflector<double>;
+
+} // namespace retroprism

@@ -1,0 +1,151 @@
+// prismatic_retroreflector.h: the closure-like node of retroreflective prismatic sheeting
+// (Guo, Guo & Pan, "A retroreflective BRDF model based on prismatic sheeting and microfacet
+// theory", Graphical Models 96 (2018) 38-46), as specified by MODEL.md.
+//
+// Conventions (the same in every backend of the library):
+//  - Frame: the node's `normal` is the local +z and its `tangent` (made orthogonal to the
+//    normal) the local +x. Directions passed to eval / pdf / sample are expressed in the frame
+//    in which normal and tangent are given; they are normalised here. With the default
+//    normal (0,0,1) and tangent (1,0,0) that frame is the local shading frame.
+//  - wi points toward the light, wo toward the viewer; both point away from the surface.
+//  - f is the BRDF in 1/sr WITHOUT the cosine factor. Lobes: surface (k_s f_s, the rough top
+//    surface), retro (f_r, the cube-corner prisms), diffuse (f_d, the substrate); `weight`
+//    multiplies all three. A lobe whose weight or colour is zero contributes exactly 0.
+//  - sample() returns the sampled direction wo, the lobes' values f at wo (not divided by the
+//    pdf, no cosine), the one-sample-mixture pdf of wo in 1/sr, and the lobe that produced it;
+//    it returns an empty optional when wi is below the horizon, nothing reflects, or the
+//    sampled direction falls below the horizon. pdf() is the same mixture pdf.
+//  - albedo(wi) = integral of f cos(theta_o) over the hemisphere, per lobe.
+//  - Directions with cos(theta) < 1e-9 (RP_MIN_COS), and non-finite directions, give zero
+//    values, a zero pdf and an empty sample: never NaN or Inf.
+//  - Parameters outside their range (the table in prismatic_retroreflector_params.def) are
+//    clamped into it; NaN parameters take their default; a zero or non-finite normal takes
+//    (0,0,1) and a tangent parallel to the normal is replaced by an arbitrary orthogonal one.
+#pragma once
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "prism_core.h"
+
+namespace retroprism {
+
+using Color3 = std::array<double, 3>;
+using Vec3d = std::array<double, 3>;
+
+// The node's inputs, generated from the parameter table. Enums are indices into their
+// `enum_values` list.
+struct Params {
+#define RP_FLOAT(name, def, lo, hi, doc) double name = def;
+#define RP_COLOR(name, r, g, b, doc) Color3 name = {r, g, b};
+#define RP_ENUM(name, def, values, doc) int name = def;
+#define RP_VECTOR(name, x, y, z, geomprop, doc) Vec3d name = {x, y, z};
+#include "prismatic_retroreflector_params.def"
+#undef RP_FLOAT
+#undef RP_COLOR
+#undef RP_ENUM
+#undef RP_VECTOR
+    // Beyond the paper (MODEL.md section 3): the elliptical retro lobe. Not a node input yet.
+    bool retro_anisotropic = false;
+};
+
+// One row of the parameter table, for readers, help texts and generators.
+enum class ParamType { Float, Color, Enum, Vector };
+struct ParamInfo {
+    const char* name;
+    ParamType type;
+    double default_value[3];
+    double min_value;
+    double max_value;
+    const char* enum_values; // comma-separated, for ParamType::Enum
+    const char* geomprop;    // default geometric property, for ParamType::Vector
+    const char* doc;
+};
+const std::vector<ParamInfo>& param_table();
+const ParamInfo* find_param(const std::string& name);
+// The enum's values as a list, and the index of `value` in it (-1 when absent).
+std::vector<std::string> enum_values(const ParamInfo& info);
+int enum_index(const ParamInfo& info, const std::string& value);
+
+// Values clamped into the table's ranges, NaN replaced by defaults, vectors made unit
+// (see the conventions above).
+Params sanitize(const Params& p);
+
+// Hemispherical-diffuse reflectance of the sheet's top surface for light from outside
+// (2 * integral of F(cos, eta) cos sin over [0, pi/2]; closed form of the exact integral,
+// with adaptive quadrature below eta = 1.01 where the closed form cancels) and from inside
+// the sheet (F_dr of MODEL.md section 3, by eta^2 (1 - F_dr_int) = 1 - F_dr_ext).
+double fdr_external(double eta);
+double fdr_internal(double eta);
+
+// Azimuth-averaged ERA, computed directly (adaptive quadrature of the exact polygon overlap)
+// instead of from the table; for tests and the table generator.
+double era_averaged_direct(double tanThetaT);
+// Azimuth average of A R1 R2 R3 for uncoated (TIR) prisms, computed directly.
+double retro_fraction_tir_averaged_direct(double tanThetaT, double eta);
+
+template <class Real> class PrismaticRetroreflector {
+  public:
+    using real = Real;
+    using vec3 = typename core<Real>::vec3;
+    using material = typename core<Real>::material;
+
+    struct Lobes {
+        vec3 surface{0};
+        vec3 retro{0};
+        vec3 diffuse{0};
+        vec3 total() const { return surface + retro + diffuse; }
+    };
+    struct Eval {
+        Lobes f;
+        Real pdf = 0;
+    };
+    struct Sample {
+        vec3 wo{0};
+        Lobes f;
+        Real pdf = 0;
+        int lobe = -1; // RP_LOBE_SURFACE, RP_LOBE_RETRO or RP_LOBE_DIFFUSE
+    };
+    struct Albedo {
+        vec3 surface{0};
+        vec3 retro{0};
+        vec3 diffuse{0};
+        vec3 total() const { return surface + retro + diffuse; }
+    };
+
+    // Prepares the per-shading-point constants (sanitised parameters, F_dr, frame).
+    explicit PrismaticRetroreflector(const Params& params = Params());
+
+    Eval eval(const vec3& wi, const vec3& wo) const;
+    Real pdf(const vec3& wi, const vec3& wo) const;
+    // u in [0, 1)^3: u.z chooses the lobe, u.x and u.y sample it.
+    std::optional<Sample> sample(const vec3& wi, const vec3& u) const;
+    // Surface and retro lobes by deterministic quadrature over each lobe's own sampling map
+    // (grid x grid midpoints); the diffuse lobe in closed form.
+    Albedo albedo(const vec3& wi, int grid = 128) const;
+    // Retroreflected fraction E and ERA A (geometry alone) of the mean refracted direction.
+    Real retro_fraction(const vec3& wi) const;
+
+    const material& core_material() const { return m_; }
+    const Params& params() const { return params_; }
+    // World (parameter frame) to local shading frame; returns false for a zero or
+    // non-finite direction.
+    bool to_local(const vec3& w, vec3& local) const;
+    vec3 to_world(const vec3& local) const;
+
+  private:
+    Params params_;
+    material m_;
+    vec3 n_, t_, b_;
+};
+
+extern template class PrismaticRetroreflector<float>;
+extern template class PrismaticRetroreflector<double>;
+
+// The core material (local-frame constants) for given sanitised parameters, in double;
+// the float node rounds it.
+f64::rp_material prepare_material(const Params& sanitized);
+
+} // namespace retroprism

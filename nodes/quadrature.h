@@ -1,0 +1,44 @@
+// quadrature.h: adaptive Gauss-Kronrod (7/15) integration in double, for the model's
+// tabulated constants and the tests that check them. Not part of the shading path.
+#pragma once
+
+#include <cmath>
+
+namespace retroprism {
+
+// Integrates f over [a, b] to an absolute error estimate below tol: each interval whose
+// |K15 - G7| exceeds its share of tol is halved, down to max_depth levels.
+template <class F>
+double integrate_adaptive(const F& f, double a, double b, double tol = 1e-12, int max_depth = 30) {
+    static const double xk[8] = {0.991455371120812639, 0.949107912342758525, 0.864864423359769073,
+                                 0.741531185599394440, 0.586087235467691130, 0.405845151377397167,
+                                 0.207784955007898468, 0.000000000000000000};
+    static const double wk[8] = {0.022935322010529225, 0.063092092629978553, 0.104790010322250184,
+                                 0.140653259715525919, 0.169004726639267903, 0.190350578064785410,
+                                 0.204432940075298892, 0.209482141084727828};
+    static const double wg[4] = {0.129484966168869693, 0.279705391489276668, 0.381830050505118945,
+                                 0.417959183673469388};
+    struct Rec {
+        const F& f;
+        double tol0;
+        int maxd;
+        double run(double lo, double hi, double tol, int depth) const {
+            double c = 0.5 * (lo + hi), h = 0.5 * (hi - lo);
+            double fc = f(c);
+            double k = wk[7] * fc, g = wg[3] * fc;
+            for (int j = 0; j < 7; ++j) {
+                double f1 = f(c - h * xk[j]), f2 = f(c + h * xk[j]);
+                k += wk[j] * (f1 + f2);
+                if (j % 2 == 1) g += wg[j / 2] * (f1 + f2);
+            }
+            k *= h;
+            g *= h;
+            if (std::abs(k - g) <= tol || depth >= maxd) return k;
+            return run(lo, c, 0.5 * tol, depth + 1) + run(c, hi, 0.5 * tol, depth + 1);
+        }
+    };
+    Rec r{f, tol, max_depth};
+    return r.run(a, b, tol, 0);
+}
+
+} // namespace retroprism

@@ -1,0 +1,87 @@
+#include "test_support.h"
+
+#include <cmath>
+#include <limits>
+
+namespace rptest {
+
+dvec3 dir_deg(double thetaDeg, double phiDeg) {
+    const double t = thetaDeg * M_PI / 180.0, p = phiDeg * M_PI / 180.0;
+    return dvec3(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t));
+}
+
+std::uint64_t Rng::next_u64() {
+    std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+}
+
+double Rng::uniform() { return double(next_u64() >> 11) * 0x1.0p-53; }
+
+namespace {
+
+// Regularised lower incomplete gamma P(a, x) by its series (x < a + 1).
+double gamma_p_series(double a, double x) {
+    double sum = 1.0 / a, term = sum;
+    for (int n = 1; n < 100000; ++n) {
+        term *= x / (a + n);
+        sum += term;
+        if (std::abs(term) < std::abs(sum) * 1e-16) break;
+    }
+    return sum * std::exp(-x + a * std::log(x) - std::lgamma(a));
+}
+
+// Regularised upper incomplete gamma Q(a, x) by Lentz's continued fraction (x >= a + 1).
+double gamma_q_fraction(double a, double x) {
+    const double tiny = 1e-300;
+    double b = x + 1.0 - a, c = 1.0 / tiny, d = 1.0 / b, h = d;
+    for (int i = 1; i < 100000; ++i) {
+        double an = -i * (i - a);
+        b += 2.0;
+        d = an * d + b;
+        if (std::abs(d) < tiny) d = tiny;
+        c = b + an / c;
+        if (std::abs(c) < tiny) c = tiny;
+        d = 1.0 / d;
+        double delta = d * c;
+        h *= delta;
+        if (std::abs(delta - 1.0) < 1e-16) break;
+    }
+    return std::exp(-x + a * std::log(x) - std::lgamma(a)) * h;
+}
+
+} // namespace
+
+double chi2_sf(double x, double dof) {
+    if (!(x > 0)) return 1.0;
+    const double a = 0.5 * dof, hx = 0.5 * x;
+    return hx < a + 1.0 ? 1.0 - gamma_p_series(a, hx) : gamma_q_fraction(a, hx);
+}
+
+double sidak(double alpha, int tests) { return 1.0 - std::pow(1.0 - alpha, 1.0 / tests); }
+
+std::vector<Corner> parameter_corners() {
+    std::vector<Corner> out;
+    for (double roughness : {0.0, 1e-4, 0.05, 1.0})
+        for (double ior : {1.0, 1.49, 3.0})
+            for (int prism : {0, 1, 2})
+                for (int era : {0, 1, 2}) {
+                    Params p;
+                    p.roughness = roughness;
+                    p.ior = ior;
+                    p.prism_reflection = prism;
+                    p.era_mode = era;
+                    p.orientation = 17.0;
+                    p.diffuse_color = {1.0, 1.0, 1.0};
+                    p.retro_color = {1.0, 1.0, 1.0};
+                    out.push_back({"roughness=" + std::to_string(roughness) +
+                                       " ior=" + std::to_string(ior) +
+                                       " prism=" + std::to_string(prism) +
+                                       " era=" + std::to_string(era),
+                                   p});
+                }
+    return out;
+}
+
+} // namespace rptest

@@ -1,0 +1,47 @@
+// test_support.h: helpers shared by the tests: directions, a seeded generator, the
+// chi-square distribution, and the parameter corners every sweep uses.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "prismatic_retroreflector.h"
+
+namespace rptest {
+
+using retroprism::Params;
+using dvec3 = glm::dvec3;
+
+// Unit direction at polar angle theta and azimuth phi (degrees) in the local frame.
+dvec3 dir_deg(double thetaDeg, double phiDeg);
+
+// A fixed-seed generator (splitmix64): the same stream on every platform, unlike
+// std::uniform_real_distribution.
+class Rng {
+  public:
+    explicit Rng(std::uint64_t seed) : state_(seed) {}
+    std::uint64_t next_u64();
+    // Uniform in [0, 1), 53 random bits.
+    double uniform();
+
+  private:
+    std::uint64_t state_;
+};
+
+// Survival function P(X >= x) of the chi-square distribution with `dof` degrees of freedom
+// (regularised upper incomplete gamma Q(dof/2, x/2)).
+double chi2_sf(double x, double dof);
+
+// Sidak-corrected per-test significance for `tests` tests at family significance `alpha`.
+double sidak(double alpha, int tests);
+
+// A named parameter set.
+struct Corner {
+    std::string name;
+    Params params;
+};
+// The corners of the parameter space: roughness, ior, colours and every enum value.
+std::vector<Corner> parameter_corners();
+
+} // namespace rptest
