@@ -125,26 +125,13 @@ double fdr_internal(double eta) {
 
 namespace {
 
-// Inner direction for tan(theta_t) = t at azimuth phi (unnormalised: only d_xy / |d_z| and the
-// face cosines' ratios matter, so it is normalised for the Fresnel terms).
-f64::vec3 inner_direction(double t, double phi) {
-    return glm::normalize(f64::vec3(t * std::cos(phi), t * std::sin(phi), -1.0));
-}
-
-const f64::vec2 kVertex1(1.0, 0.0);
-const f64::vec2 kVertex2(-0.5, 0.86602540378443864676);
-const f64::vec2 kVertex3(-0.5, -0.86602540378443864676);
+const f64::vec2 kVertex1 = f64::RP_ERA_V1;
+const f64::vec2 kVertex2 = f64::RP_ERA_V2;
+const f64::vec2 kVertex3 = f64::RP_ERA_V3;
 
 } // namespace
 
-double era_averaged_direct(double t) {
-    // A is periodic in azimuth with period 2 pi / 3 (the prism's three-fold symmetry).
-    auto f = [&](double phi) {
-        return f64::rp_era_oriented(inner_direction(t, phi), kVertex1, kVertex2, kVertex3);
-    };
-    const double period = 2.0 * f64::RP_PI / 3.0;
-    return integrate_adaptive(f, 0.0, period, 1e-13) / period;
-}
+double era_averaged_direct(double t) { return f64::rp_retro_fraction_averaged_exact(t, 1.0, false); }
 
 double retro_fraction_tir_averaged_direct(double t, double eta) {
     f64::rp_material m{};
@@ -153,9 +140,15 @@ double retro_fraction_tir_averaged_direct(double t, double eta) {
     m.vertex1 = kVertex1;
     m.vertex2 = kVertex2;
     m.vertex3 = kVertex3;
-    auto f = [&](double phi) { return f64::rp_retro_fraction_oriented(m, inner_direction(t, phi)); };
+    const int n = 2000000;
     const double period = 2.0 * f64::RP_PI / 3.0;
-    return integrate_adaptive(f, 0.0, period, 1e-13) / period;
+    double sum = 0.0;
+    for (int i = 0; i < n; ++i) {
+        double phi = (i + 0.5) / n * period;
+        sum += f64::rp_retro_fraction_oriented(
+            m, glm::normalize(f64::vec3(t * std::cos(phi), t * std::sin(phi), -1.0)));
+    }
+    return sum / n;
 }
 
 f64::rp_material prepare_material(const Params& p) {

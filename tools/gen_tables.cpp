@@ -14,9 +14,6 @@ using namespace retroprism;
 namespace {
 
 const int kEraAvgN = 2049;     // nodes over t = tan(theta_t) in [0, sqrt 2]
-const int kTirNt = 129;        // nodes over t
-const int kTirNeta = 81;       // nodes over eta in [1, 3]
-const double kTirEtaMax = 3.0;
 const double kTanMax = 1.41421356237309504880; // A = 0 beyond theta_t = 54.74 deg
 
 void write_table(FILE* f, const char* name, const std::vector<double>& v) {
@@ -42,13 +39,6 @@ int main(int argc, char** argv) {
     }
     std::vector<double> era(kEraAvgN);
     for (int i = 0; i < kEraAvgN; ++i) era[i] = era_averaged_direct(kTanMax * i / (kEraAvgN - 1));
-    std::vector<double> tir(size_t(kTirNt) * kTirNeta);
-    for (int j = 0; j < kTirNeta; ++j) {
-        double eta = 1.0 + (kTirEtaMax - 1.0) * j / (kTirNeta - 1);
-        for (int i = 0; i < kTirNt; ++i)
-            tir[size_t(j) * kTirNt + i] =
-                retro_fraction_tir_averaged_direct(kTanMax * i / (kTirNt - 1), eta);
-    }
     FILE* f = std::fopen(argv[1], "w");
     if (!f) {
         std::fprintf(stderr, "retroprism_gen_tables: cannot write %s\n", argv[1]);
@@ -60,19 +50,13 @@ int main(int argc, char** argv) {
                  "// values against direct integration and that regeneration changes nothing.\n"
                  "//\n"
                  "// rp_era_avg_table: azimuth average of the ERA A (exact polygon overlap,\n"
-                 "// adaptive Gauss-Kronrod over one 120-degree period) at t = tan(theta_t) =\n"
-                 "// RP_ERA_TAN_MAX i / (RP_ERA_AVG_N - 1); A = 0 beyond theta_t = 54.74 deg.\n");
+                 "// integrated piecewise between its kinks by rp_retro_fraction_averaged_exact)\n"
+                 "// at t = tan(theta_t) = RP_ERA_TAN_MAX i / (RP_ERA_AVG_N - 1); A = 0 beyond\n"
+                 "// theta_t = 54.74 deg. Linear interpolation in it is within 1e-5 of the\n"
+                 "// exact average everywhere (measured maximum 5.3e-6, at the kink t = 1/sqrt2).\n");
     std::fprintf(f, "const int RP_ERA_AVG_N = %d;\n", kEraAvgN);
     std::fprintf(f, "const real RP_ERA_TAN_MAX = real(1.41421356237309504880);\n");
     write_table(f, "rp_era_avg_table", era);
-    std::fprintf(f,
-                 "// rp_tir_avg_table: azimuth average of A R1 R2 R3 for uncoated prisms (exact\n"
-                 "// Fresnel of the three faces), t as above with RP_TIR_NT nodes, eta in\n"
-                 "// [1, RP_TIR_ETA_MAX] with RP_TIR_NETA nodes; entry [j * RP_TIR_NT + i].\n");
-    std::fprintf(f, "const int RP_TIR_NT = %d;\n", kTirNt);
-    std::fprintf(f, "const int RP_TIR_NETA = %d;\n", kTirNeta);
-    std::fprintf(f, "const real RP_TIR_ETA_MAX = real(%.1f);\n", kTirEtaMax);
-    write_table(f, "rp_tir_avg_table", tir);
     std::fclose(f);
     return 0;
 }
