@@ -224,11 +224,17 @@ PrismaticRetroreflector<Real>::PrismaticRetroreflector(const Params& params)
     b_ = glm::cross(n_, t_);
 }
 
+// Squared lengths within this of 1 count as unit (a few float ulps).
+constexpr double kUnitTolerance = 1e-6;
+
 template <class Real>
 bool PrismaticRetroreflector<Real>::to_local(const vec3& w, vec3& local) const {
     Real len2 = glm::dot(w, w);
     if (!(len2 > Real(0)) || !std::isfinite(len2)) return false;
-    vec3 u = w / std::sqrt(len2);
+    // Unit within float rounding: used as given, so that the float and double nodes see the
+    // same direction (renormalising would move a float direction by an ulp, which the
+    // narrowest lobes, alpha = 1e-4, turn into a 1e-3 change of their tails).
+    vec3 u = std::abs(len2 - Real(1)) <= Real(kUnitTolerance) ? w : w / std::sqrt(len2);
     local = vec3(glm::dot(u, t_), glm::dot(u, b_), glm::dot(u, n_));
     return true;
 }

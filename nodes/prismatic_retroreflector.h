@@ -5,7 +5,8 @@
 // Conventions (the same in every backend of the library):
 //  - Frame: the node's `normal` is the local +z and its `tangent` (made orthogonal to the
 //    normal) the local +x. Directions passed to eval / pdf / sample are expressed in the frame
-//    in which normal and tangent are given; they are normalised here. With the default
+//    in which normal and tangent are given; they are normalised here (a direction whose
+//    squared length is within 1e-6 of 1 is used as given). With the default
 //    normal (0,0,1) and tangent (1,0,0) that frame is the local shading frame.
 //  - wi points toward the light, wo toward the viewer; both point away from the surface.
 //  - f is the BRDF in 1/sr WITHOUT the cosine factor. Lobes: surface (k_s f_s, the rough top
