@@ -25,7 +25,8 @@ const char* kUsage =
     "                                      effective retroreflective area of an inner direction\n"
     "  albedo [--material FILE.json] --theta-i DEG...\n"
     "                                      per-lobe and total directional albedo\n"
-    "  demo [--out DIR]                    BRDF slice plots of the bundled example materials\n"
+    "  demo [--out DIR] [--materials DIR]  BRDF slice plots of the bundled example materials\n"
+    "  params                              the node's inputs as a Markdown table\n"
     "\n"
     "`retroprism COMMAND --help` describes a command.\n";
 
@@ -137,6 +138,16 @@ int cmd_albedo(int argc, const char** argv) {
     return 0;
 }
 
+int cmd_params(int argc, const char** argv) {
+    OIIO::ArgParse ap;
+    ap.intro("retroprism params: the node's inputs (the parameter table) as a Markdown table")
+        .usage("retroprism params");
+    int status = 0;
+    if (!parse(ap, argc, argv, status)) return status;
+    std::fputs(params_markdown().c_str(), stdout);
+    return 0;
+}
+
 } // namespace retroprism
 
 int main(int argc, const char** argv) {
@@ -150,6 +161,7 @@ int main(int argc, const char** argv) {
         if (cmd == "era") return cmd_era(argc - 1, argv + 1);
         if (cmd == "albedo") return cmd_albedo(argc - 1, argv + 1);
         if (cmd == "demo") return cmd_demo(argc - 1, argv + 1);
+        if (cmd == "params") return cmd_params(argc - 1, argv + 1);
     } catch (const InputError& e) {
         std::fprintf(stderr, "retroprism %s: error: %s\n", cmd.c_str(), e.what());
         return 1;

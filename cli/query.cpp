@@ -171,6 +171,44 @@ Query parse_query(const json& j, const std::string& source) {
     return q;
 }
 
+std::string params_markdown() {
+    auto num = [](double v) {
+        std::ostringstream ss;
+        ss << v;
+        return ss.str();
+    };
+    std::string out = "| input | type | default | range / values | description |\n"
+                      "|---|---|---|---|---|\n";
+    for (const ParamInfo& i : param_table()) {
+        std::string type, def, range;
+        switch (i.type) {
+        case ParamType::Float:
+            type = "float";
+            def = num(i.default_value[0]);
+            range = "[" + num(i.min_value) + ", " + num(i.max_value) + "]";
+            break;
+        case ParamType::Color:
+            type = "color3";
+            def = num(i.default_value[0]) + ", " + num(i.default_value[1]) + ", " + num(i.default_value[2]);
+            range = "[0, 1] per channel";
+            break;
+        case ParamType::Enum:
+            type = "string (uniform)";
+            def = enum_values(i).at(size_t(i.default_value[0]));
+            range = i.enum_values;
+            break;
+        case ParamType::Vector:
+            type = "vector3";
+            def = std::string(i.geomprop) + " (" + num(i.default_value[0]) + ", " +
+                  num(i.default_value[1]) + ", " + num(i.default_value[2]) + ")";
+            range = "any non-zero";
+            break;
+        }
+        out += "| `" + std::string(i.name) + "` | " + type + " | " + def + " | " + range + " | " + i.doc + " |\n";
+    }
+    return out;
+}
+
 std::vector<std::string> backend_names() { return {"cpp-double", "cpp-float"}; }
 
 namespace {

@@ -43,6 +43,10 @@ struct Query {
 // "wo_deg": [theta, phi]}, ...]}. Directions need not be unit; they must be finite.
 Query parse_query(const nlohmann::json& j, const std::string& source);
 
+// The parameter table as Markdown (name, type, default, range or values, description): the
+// README's table is this text.
+std::string params_markdown();
+
 // The backends that answer queries, and one answer:
 // {"backend": name, "results": [{"f", "surface", "retro", "diffuse", "pdf"}, ...]}.
 std::vector<std::string> backend_names();

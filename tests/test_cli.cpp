@@ -1,1 +1,216 @@
+// [cli]: the command-line tool: the JSON query interface answers what the library computes,
+// and every bad input is rejected with a message naming what was wrong, a non-zero status
+// and no output file.
 #include <catch2/catch.hpp>
+
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "query.h"
+#include "test_support.h"
+
+using namespace retroprism;
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Run {
+    int status = -1;
+    std::string output; // stdout and stderr together
+};
+
+Run run(const std::string& args, const std::string& stdinText = "") {
+    std::string cmd = std::string(RP_CLI_PATH) + " " + args + " 2>&1";
+    fs::path in;
+    if (!stdinText.empty()) {
+        in = fs::temp_directory_path() / "retroprism_test_stdin.json";
+        std::ofstream(in) << stdinText;
+        cmd = cmd + " < " + in.string();
+    }
+    Run r;
+    FILE* p = popen(cmd.c_str(), "r");
+    REQUIRE(p);
+    char buf[4096];
+    size_t n;
+    while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
+    int st = pclose(p);
+    r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+    return r;
+}
+
+fs::path write_temp(const std::string& name, const std::string& text) {
+    fs::path p = fs::temp_directory_path() / ("retroprism_test_" + name);
+    std::ofstream(p) << text;
+    return p;
+}
+
+bool contains(const std::string& s, const std::string& part) {
+    return s.find(part) != std::string::npos;
+}
+
+} // namespace
+
+TEST_CASE("eval answers the library's values, per backend", "[cli]") {
+    const std::string query = R"({"material": {"roughness": 0.1, "ior": 1.586,
+        "prism_reflection": "tir", "era_mode": "oriented", "orientation": 40,
+        "diffuse_color": [0.9, 0.8, 0.1], "retro_color": [1, 0.9, 0.2]},
+      "samples": [{"wi": [0.3, 0.1, 0.9], "wo": [0.3, 0.1, 0.9]},
+                  {"wi_deg": [30, 0], "wo_deg": [30, 0]},
+                  {"wi_deg": [45, 20], "wo_deg": [45, 200]},
+                  {"wi": [0, 0, 1], "wo": [0.2, 0, -0.1]}]})";
+    const fs::path file = write_temp("query.json", query);
+    Query q = parse_query(json::parse(query), "query");
+    for (const char* backend : {"cpp-double", "cpp-float"}) {
+        INFO(backend);
+        Run r = run(std::string("eval --backend ") + backend + " " + file.string());
+        REQUIRE(r.status == 0);
+        json answer = json::parse(r.output);
+        CHECK(answer["backend"] == backend);
+        REQUIRE(answer["results"].size() == q.samples.size());
+        // The CLI's numbers are the library's, to the last bit (JSON keeps 17 digits).
+        json direct = answer_query(q, backend);
+        CHECK(answer == direct);
+        for (const json& res : answer["results"])
+            for (const char* key : {"f", "surface", "retro", "diffuse"}) CHECK(res[key].size() == 3);
+    }
+    // The same query on standard input; degrees and vectors describe the same directions.
+    Run r = run("eval -", query);
+    REQUIRE(r.status == 0);
+    json a = json::parse(r.output);
+    CHECK(a["backend"] == "cpp-double");
+    PrismaticRetroreflector<double> node(q.material);
+    const glm::dvec3 w30 = rptest::dir_deg(30, 0);
+    CHECK(a["results"][1]["retro"][0].get<double>() == node.eval(w30, w30).f.retro.x);
+    CHECK(a["results"][3]["pdf"].get<double>() == 0.0); // wo below the horizon
+}
+
+TEST_CASE("Bad queries and materials are rejected, naming what is wrong", "[cli]") {
+    struct Case {
+        const char* what;
+        const char* text;
+        const char* expect; // part of the message
+    };
+    const Case cases[] = {
+        {"out of range", R"({"material": {"roughness": 2}, "samples": []})",
+         "material.roughness = 2 is outside its range [0, 1]"},
+        {"unknown input", R"({"material": {"roughnes": 0.1}, "samples": []})",
+         "material.roughnes: unknown input"},
+        {"bad enum", R"({"material": {"era_mode": "sideways"}, "samples": []})",
+         "material.era_mode: expected one of \"averaged,matched_pair,oriented\""},
+        {"colour size", R"({"material": {"diffuse_color": [1, 0]}, "samples": []})",
+         "material.diffuse_color: expected an array of 3 numbers in [0, 1]"},
+        {"colour range", R"({"material": {"retro_color": [1, 0, -0.5]}, "samples": []})",
+         "material.retro_color[2] = -0.5 is outside its range [0, 1]"},
+        {"wrong type", R"({"material": {"ior": "glass"}, "samples": []})",
+         "material.ior: expected a number in [1, 3]"},
+        {"no samples", R"({"material": {}})", "\"samples\" must be an array"},
+        {"unknown field", R"({"materials": {}, "samples": []})", "unknown field \"materials\""},
+        {"half a sample", R"({"samples": [{"wi": [0, 0, 1]}]})", "samples[0]"},
+        {"mixed forms", R"({"samples": [{"wi": [0, 0, 1], "wo_deg": [10, 0]}]})", "samples[0]"},
+        {"zero direction", R"({"samples": [{"wi": [0, 0, 0], "wo": [0, 0, 1]}]})",
+         "samples[0].wi: a direction must not be the zero vector"},
+        {"theta range", R"({"samples": [{"wi_deg": [190, 0], "wo_deg": [0, 0]}]})",
+         "samples[0].wi_deg[0] (theta) = 190 is outside its range [0, 180]"},
+        {"syntax", "{\"samples\": [\n  {\"wi\": [0, 0, 1],, }\n]}", ":2:"},
+    };
+    for (const Case& c : cases) {
+        INFO(c.what);
+        const fs::path file = write_temp("bad.json", c.text);
+        Run r = run("eval " + file.string());
+        CHECK(r.status != 0);
+        CHECK(contains(r.output, c.expect));
+        CHECK(contains(r.output, file.string())); // the file is named
+        CHECK_FALSE(contains(r.output, "{\"backend\""));
+    }
+    Run missing = run("eval /nonexistent/query.json");
+    CHECK(missing.status != 0);
+    CHECK(contains(missing.output, "/nonexistent/query.json: cannot open file"));
+    Run backend = run("eval --backend vulkan " + write_temp("ok.json", R"({"samples": []})").string());
+    CHECK(backend.status != 0);
+    CHECK(contains(backend.output, "unknown backend (backends: cpp-double, cpp-float)"));
+}
+
+TEST_CASE("era and albedo commands", "[cli]") {
+    Run normal = run("era --theta-t 0");
+    REQUIRE(normal.status == 0);
+    CHECK(contains(normal.output, "ERA 0.666666667"));
+    // Oriented at theta_t = 20 deg equals the core's value for that inner direction.
+    Run oriented = run("era --theta-t 20 --phi 30 --mode oriented");
+    REQUIRE(oriented.status == 0);
+    const double t = 20 * M_PI / 180, p = 30 * M_PI / 180;
+    char expect[64];
+    std::snprintf(expect, sizeof expect, "ERA %.9f",
+                  f64::rp_era_oriented(f64::vec3(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p),
+                                                 -std::cos(t)),
+                                       f64::RP_ERA_V1, f64::RP_ERA_V2, f64::RP_ERA_V3));
+    CHECK(contains(oriented.output, expect));
+    CHECK(run("era").status != 0);
+    Run badMode = run("era --theta-t 10 --mode tilted");
+    CHECK(badMode.status != 0);
+    CHECK(contains(badMode.output, "--mode tilted: expected averaged, matched_pair or oriented"));
+    Run badTheta = run("era --theta-t 95");
+    CHECK(badTheta.status != 0);
+    CHECK(contains(badTheta.output, "--theta-t: must be in [0, 90) degrees"));
+
+    Run albedo = run("albedo --theta-i 0 45");
+    REQUIRE(albedo.status == 0);
+    CHECK(contains(albedo.output, "surface"));
+    Run badAngle = run("albedo --theta-i 10 95");
+    CHECK(badAngle.status != 0);
+    CHECK(contains(badAngle.output, "--theta-i 95: must be in [0, 90) degrees"));
+    CHECK_FALSE(contains(badAngle.output, "theta_i      surface")); // nothing printed first
+    const fs::path bad = write_temp("material.json", R"({"ior": 0.5})");
+    Run badMaterial = run("albedo --material " + bad.string() + " --theta-i 10");
+    CHECK(badMaterial.status != 0);
+    CHECK(contains(badMaterial.output, bad.string() + ".ior = 0.5 is outside its range [1, 3]"));
+}
+
+TEST_CASE("demo writes every material's plots, or nothing on a bad material", "[cli]") {
+    const fs::path out = fs::temp_directory_path() / "retroprism_test_demo";
+    fs::remove_all(out);
+    Run good = run("demo --materials " + std::string(RP_SOURCE_DIR) + "/examples/materials --out " +
+                   out.string());
+    REQUIRE(good.status == 0);
+    int exr = 0, png = 0;
+    for (const auto& e : fs::directory_iterator(out)) {
+        exr += e.path().extension() == ".exr";
+        png += e.path().extension() == ".png";
+    }
+    CHECK(exr >= 5);
+    CHECK(png >= 5);
+
+    const fs::path mats = fs::temp_directory_path() / "retroprism_test_bad_materials";
+    fs::remove_all(mats);
+    fs::create_directories(mats);
+    std::ofstream(mats / "good.json") << R"({"roughness": 0.1})";
+    std::ofstream(mats / "bad.json") << R"({"roughness": 1.5})";
+    const fs::path out2 = fs::temp_directory_path() / "retroprism_test_demo_bad";
+    fs::remove_all(out2);
+    Run bad = run("demo --materials " + mats.string() + " --out " + out2.string());
+    CHECK(bad.status != 0);
+    CHECK(contains(bad.output, "bad.json.roughness = 1.5 is outside its range [0, 1]"));
+    bool anyFile = false;
+    if (fs::exists(out2))
+        for (const auto& e : fs::directory_iterator(out2)) anyFile = anyFile || e.is_regular_file();
+    CHECK_FALSE(anyFile);
+}
+
+TEST_CASE("The README's inputs table is the parameter table", "[cli]") {
+    std::ifstream in(std::string(RP_SOURCE_DIR) + "/README.md");
+    std::string readme((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string begin = "<!-- params:begin -->\n", end = "<!-- params:end -->";
+    size_t a = readme.find(begin), b = readme.find(end);
+    REQUIRE(a != std::string::npos);
+    REQUIRE(b != std::string::npos);
+    CHECK(readme.substr(a + begin.size(), b - a - begin.size()) == params_markdown());
+    Run r = run("params");
+    CHECK(r.status == 0);
+    CHECK(r.output == params_markdown());
+}

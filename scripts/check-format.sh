@@ -1,0 +1,11 @@
+#!/usr/bin/env bash
+# Fails when a C++ source differs from what clang-format (with .clang-format) makes of it.
+# Generated files are left out.
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$root"
+files=$(git ls-files '*.cpp' '*.h' '*.inc' | grep -v '^nodes/generated/' || true)
+if [ -z "$files" ]; then exit 0; fi
+# shellcheck disable=SC2086
+clang-format --dry-run -Werror $files
+echo "format: $(echo "$files" | wc -w) files match .clang-format"
