@@ -19,13 +19,13 @@ const double kTanMax = 1.41421356237309504880; // A = 0 beyond theta_t = 54.74 d
 void write_table(FILE* f, const char* name, const std::vector<double>& v) {
     std::fprintf(f, "RP_TABLE_BEGIN(%s, %d)\n", name, int(v.size()));
     for (size_t i = 0; i < v.size(); ++i) {
-        // Nine significant digits round-trip a float; a decimal point keeps every literal
-        // a floating-point one in GLSL too.
+        // Seventeen significant digits round-trip a double; a decimal point keeps every
+        // literal a floating-point one in GLSL too.
         char num[32];
-        std::snprintf(num, sizeof num, "%.9g", v[i]);
+        std::snprintf(num, sizeof num, "%.17g", v[i]);
         std::string s = num;
         if (s.find_first_of(".e") == std::string::npos) s += ".0";
-        std::fprintf(f, "%s%s", s.c_str(), i + 1 == v.size() ? "\n" : (i % 8 == 7 ? ",\n" : ", "));
+        std::fprintf(f, "%s%s", s.c_str(), i + 1 == v.size() ? "\n" : (i % 4 == 3 ? ",\n" : ", "));
     }
     std::fprintf(f, "RP_TABLE_END\n");
 }
