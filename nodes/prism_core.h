@@ -31,9 +31,14 @@
     using glm::mix;                                                                                \
     using glm::normalize;                                                                          \
     inline real rp_erf(real x) { return std::erf(x); }                                             \
-    inline real rp_erfc(real x) { return std::erfc(x); }
+    inline real rp_erfc(real x) { return std::erfc(x); }                                           \
+    inline real rp_fdr_external(real eta) { return real(::retroprism::fdr_external(double(eta))); }
 
 namespace retroprism {
+
+// Exact outside hemispherical reflectance of the top surface (prismatic_retroreflector.cpp);
+// the C++ prelude's rp_fdr_external.
+double fdr_external(double eta);
 
 // Newton steps on std::erf after Giles' approximation: float reaches its rounding after one,
 // double after two (each step squares the relative error of ~4e-7).

@@ -152,35 +152,10 @@ double retro_fraction_tir_averaged_direct(double t, double eta) {
 }
 
 f64::rp_material prepare_material(const Params& p) {
-    f64::rp_material m{};
-    m.weight = p.weight;
-    m.specular = p.specular;
-    m.retro_color = f64::vec3(p.retro_color[0], p.retro_color[1], p.retro_color[2]);
-    m.diffuse_color = f64::vec3(p.diffuse_color[0], p.diffuse_color[1], p.diffuse_color[2]);
-    m.alpha = std::max(p.roughness, f64::RP_MIN_ALPHA);
-    m.eta = p.ior;
-    m.prism_reflection = p.prism_reflection;
-    m.metal_r3 = p.metal_reflectance * p.metal_reflectance * p.metal_reflectance;
-    m.era_mode = p.era_mode;
-    const double rot = p.orientation * f64::RP_PI / 180.0;
-    const double c = std::cos(rot), s = std::sin(rot);
-    auto rotate = [&](const f64::vec2& v) {
-        return f64::vec2(c * v.x - s * v.y, s * v.x + c * v.y);
-    };
-    m.vertex1 = rotate(kVertex1);
-    m.vertex2 = rotate(kVertex2);
-    m.vertex3 = rotate(kVertex3);
-    m.retro_anisotropic = p.retro_anisotropic ? 1 : 0;
-    const double fdrInt = fdr_internal(m.eta);
-    const double transExt = 1.0 - fdr_external(m.eta);
-    const double eta2 = m.eta * m.eta;
-    for (int k = 0; k < 3; ++k) {
-        const double kd = m.diffuse_color[k];
-        const double denom = 1.0 - kd * fdrInt; // >= 1 - F_dr > 0 for k_d <= 1
-        m.diffuse_scale[k] = kd / (f64::RP_PI * eta2 * denom);
-        m.diffuse_albedo[k] = kd * transExt / (eta2 * denom);
-    }
-    return m;
+    return f64::rp_prepare(p.weight, f64::vec3(p.diffuse_color[0], p.diffuse_color[1], p.diffuse_color[2]),
+                           f64::vec3(p.retro_color[0], p.retro_color[1], p.retro_color[2]), p.specular,
+                           p.roughness, p.ior, p.prism_reflection, p.metal_reflectance, p.era_mode,
+                           p.orientation, p.retro_anisotropic ? 1 : 0);
 }
 
 namespace {
