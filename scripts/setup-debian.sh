@@ -9,6 +9,7 @@ packages=(
   libopenimageio-dev openimageio-tools libopenexr-dev libimath-dev
   nlohmann-json3-dev libpugixml-dev catch2 libglm-dev
   clang-format
+  libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri glslang-tools spirv-tools
 )
 
 missing=()

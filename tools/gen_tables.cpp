@@ -13,7 +13,9 @@ using namespace retroprism;
 
 namespace {
 
-const int kEraAvgN = 2049;     // nodes over t = tan(theta_t) in [0, sqrt 2]
+const int kEraAvgN = 2049;
+const int kFdrN = 2049;        // nodes over eta in [1, 3]
+const double kFdrEtaMax = 3.0;     // nodes over t = tan(theta_t) in [0, sqrt 2]
 const double kTanMax = 1.41421356237309504880; // A = 0 beyond theta_t = 54.74 deg
 
 void write_table(FILE* f, const char* name, const std::vector<double>& v) {
@@ -39,6 +41,8 @@ int main(int argc, char** argv) {
     }
     std::vector<double> era(kEraAvgN);
     for (int i = 0; i < kEraAvgN; ++i) era[i] = era_averaged_direct(kTanMax * i / (kEraAvgN - 1));
+    std::vector<double> fdr(kFdrN);
+    for (int i = 0; i < kFdrN; ++i) fdr[i] = fdr_external(1.0 + (kFdrEtaMax - 1.0) * i / (kFdrN - 1));
     FILE* f = std::fopen(argv[1], "w");
     if (!f) {
         std::fprintf(stderr, "retroprism_gen_tables: cannot write %s\n", argv[1]);
@@ -54,9 +58,21 @@ int main(int argc, char** argv) {
                  "// at t = tan(theta_t) = RP_ERA_TAN_MAX i / (RP_ERA_AVG_N - 1); A = 0 beyond\n"
                  "// theta_t = 54.74 deg. Linear interpolation in it is within 1e-5 of the\n"
                  "// exact average everywhere (measured maximum 5.3e-6, at the kink t = 1/sqrt2).\n");
-    std::fprintf(f, "const int RP_ERA_AVG_N = %d;\n", kEraAvgN);
     std::fprintf(f, "const real RP_ERA_TAN_MAX = real(1.41421356237309504880);\n");
+    std::fprintf(f, "// @rp-if era_averaged\n");
+    std::fprintf(f, "const int RP_ERA_AVG_N = %d;\n", kEraAvgN);
     write_table(f, "rp_era_avg_table", era);
+    std::fprintf(f, "// @rp-endif\n");
+    std::fprintf(f,
+                 "// rp_fdr_ext_table: F_dr_ext(eta), the outside hemispherical reflectance of the\n"
+                 "// top surface (exact: retroprism::fdr_external), at eta = 1 + (RP_FDR_ETA_MAX - 1)\n"
+                 "// i / (RP_FDR_N - 1), for backends without double precision; the C++ node\n"
+                 "// computes it exactly.\n");
+    std::fprintf(f, "// @rp-if diffuse\n");
+    std::fprintf(f, "const int RP_FDR_N = %d;\n", kFdrN);
+    std::fprintf(f, "const real RP_FDR_ETA_MAX = real(%.1f);\n", kFdrEtaMax);
+    write_table(f, "rp_fdr_ext_table", fdr);
+    std::fprintf(f, "// @rp-endif\n");
     std::fclose(f);
     return 0;
 }
