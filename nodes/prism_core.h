@@ -18,6 +18,7 @@
     using std::acos;                                                                               \
     using std::cos;                                                                                \
     using std::exp;                                                                                \
+    using std::isnan;                                                                              \
     using std::log;                                                                                \
     using std::pow;                                                                                \
     using std::sin;                                                                                \
@@ -111,6 +112,9 @@ template <class Real> struct core;
         }                                                                                          \
         static real lobe_pdf(const material& m, const incident& s, vec3 wi, vec3 wo, int lobe) {   \
             return NS::rp_lobe_pdf(m, s, wi, wo, lobe);                                            \
+        }                                                                                          \
+        static bool to_local(vec3 n, vec3 t, vec3 b, vec3 w, vec3& local) {                        \
+            return NS::rp_to_local(n, t, b, w, local);                                             \
         }                                                                                          \
     };
 RP_CORE_DISPATCH(float, f32)

@@ -51,15 +51,7 @@ int enum_index(const ParamInfo& info, const std::string& value) {
 namespace {
 
 double clamp_or_default(double v, double lo, double hi, double def) {
-    if (std::isnan(v)) return def;
-    return std::min(std::max(v, lo), hi);
-}
-
-Vec3d unit_or(const Vec3d& v, const Vec3d& fallback) {
-    double len2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
-    if (!(len2 > 0) || !std::isfinite(len2)) return fallback;
-    double s = 1.0 / std::sqrt(len2);
-    return {v[0] * s, v[1] * s, v[2] * s};
+    return f64::rp_sanitize(v, lo, hi, def);
 }
 
 } // namespace
@@ -78,26 +70,12 @@ Params sanitize(const Params& in) {
 #undef RP_COLOR
 #undef RP_ENUM
 #undef RP_VECTOR
-    // Vectors: only finite, non-zero ones count, as a unit normal and a tangent orthogonal
-    // to it (Gram-Schmidt; a tangent parallel to the normal is replaced).
-    bool finite = true;
-    for (int c = 0; c < 3; ++c) finite = finite && std::isfinite(in.normal[c]);
-    p.normal = unit_or(finite ? in.normal : def.normal, def.normal);
-    const Vec3d& n = p.normal;
-    Vec3d t = in.tangent;
-    for (int c = 0; c < 3; ++c)
-        if (!std::isfinite(t[c])) t = def.tangent;
-    double tn = t[0] * n[0] + t[1] * n[1] + t[2] * n[2];
-    Vec3d tp = {t[0] - tn * n[0], t[1] - tn * n[1], t[2] - tn * n[2]};
-    double len2 = tp[0] * tp[0] + tp[1] * tp[1] + tp[2] * tp[2];
-    if (!(len2 > 1e-12)) {
-        // Any unit vector orthogonal to n (Duff et al. 2017, "Building an orthonormal basis").
-        double sign = std::copysign(1.0, n[2]);
-        double a = -1.0 / (sign + n[2]);
-        double b = n[0] * n[1] * a;
-        tp = {1.0 + sign * n[0] * n[0] * a, sign * b, -sign * n[0]};
-    }
-    p.tangent = unit_or(tp, def.tangent);
+    // The frame, as every backend makes it (rp_make_frame).
+    f64::vec3 n, t, b;
+    f64::rp_make_frame(f64::vec3(in.normal[0], in.normal[1], in.normal[2]),
+                       f64::vec3(in.tangent[0], in.tangent[1], in.tangent[2]), n, t, b);
+    p.normal = {n.x, n.y, n.z};
+    p.tangent = {t.x, t.y, t.z};
     return p;
 }
 
@@ -199,19 +177,9 @@ PrismaticRetroreflector<Real>::PrismaticRetroreflector(const Params& params)
     b_ = glm::cross(n_, t_);
 }
 
-// Squared lengths within this of 1 count as unit (a few float ulps).
-constexpr double kUnitTolerance = 1e-6;
-
 template <class Real>
 bool PrismaticRetroreflector<Real>::to_local(const vec3& w, vec3& local) const {
-    Real len2 = glm::dot(w, w);
-    if (!(len2 > Real(0)) || !std::isfinite(len2)) return false;
-    // Unit within float rounding: used as given, so that the float and double nodes see the
-    // same direction (renormalising would move a float direction by an ulp, which the
-    // narrowest lobes, alpha = 1e-4, turn into a 1e-3 change of their tails).
-    vec3 u = std::abs(len2 - Real(1)) <= Real(kUnitTolerance) ? w : w / std::sqrt(len2);
-    local = vec3(glm::dot(u, t_), glm::dot(u, b_), glm::dot(u, n_));
-    return true;
+    return core<Real>::to_local(n_, t_, b_, w, local);
 }
 
 template <class Real>
