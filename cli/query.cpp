@@ -1,5 +1,7 @@
 #include "query.h"
 
+#include "gl_runner.h"
+
 #include <cmath>
 #include <fstream>
 #include <iostream>
@@ -209,7 +211,7 @@ std::string params_markdown() {
     return out;
 }
 
-std::vector<std::string> backend_names() { return {"cpp-double", "cpp-float"}; }
+std::vector<std::string> backend_names() { return {"cpp-double", "cpp-float", "glsl"}; }
 
 namespace {
 
@@ -234,9 +236,34 @@ template <class Real> json answer_cpp(const Query& q, const std::string& name) {
 
 } // namespace
 
+json answer_glsl(const Query& q) {
+    // One context and compiled program per process (compiling takes llvmpipe a while).
+    static gl::Runner runner(gl::embedded_library());
+    std::vector<std::array<Vec3d, 2>> pairs;
+    pairs.reserve(q.samples.size());
+    for (const DirectionPair& s : q.samples) pairs.push_back({s.wi, s.wo});
+    std::vector<gl::Result> res = runner.evaluate(q.material, pairs);
+    json results = json::array();
+    auto rgb = [](const std::array<float, 3>& v) {
+        return json::array({double(v[0]), double(v[1]), double(v[2])});
+    };
+    for (const gl::Result& r : res) {
+        std::array<float, 3> f = {r.surface[0] + r.retro[0] + r.diffuse[0],
+                                  r.surface[1] + r.retro[1] + r.diffuse[1],
+                                  r.surface[2] + r.retro[2] + r.diffuse[2]};
+        results.push_back({{"f", rgb(f)},
+                           {"surface", rgb(r.surface)},
+                           {"retro", rgb(r.retro)},
+                           {"diffuse", rgb(r.diffuse)},
+                           {"pdf", double(r.pdf)}});
+    }
+    return {{"backend", "glsl"}, {"results", results}};
+}
+
 json answer_query(const Query& q, const std::string& backend) {
     if (backend == "cpp-double") return answer_cpp<double>(q, backend);
     if (backend == "cpp-float") return answer_cpp<float>(q, backend);
+    if (backend == "glsl") return answer_glsl(q);
     std::string names;
     for (const std::string& n : backend_names()) names += (names.empty() ? "" : ", ") + n;
     throw InputError("--backend " + backend + ": unknown backend (backends: " + names + ")");

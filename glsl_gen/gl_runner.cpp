@@ -1,0 +1,196 @@
+#include "gl_runner.h"
+
+#include <epoxy/egl.h>
+#include <epoxy/gl.h>
+
+#include <cstdio>
+
+namespace retroprism::gl {
+
+namespace {
+
+std::string egl_error_name(EGLint e) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "0x%04x", unsigned(e));
+    return buf;
+}
+
+// The compute shader around the library: pairs in, 10 floats per pair out.
+std::string compute_source(const std::string& library) {
+    std::string uniforms, args;
+#define RP_FLOAT(name, def, lo, hi, doc)                                                           \
+    uniforms += "uniform float u_" #name ";\n";                                                    \
+    args += "u_" #name ", ";
+#define RP_COLOR(name, r, g, b, doc)                                                               \
+    uniforms += "uniform vec3 u_" #name ";\n";                                                     \
+    args += "u_" #name ", ";
+#define RP_ENUM(name, def, values, doc)                                                            \
+    uniforms += "uniform int u_" #name ";\n";                                                      \
+    args += "u_" #name ", ";
+#define RP_VECTOR(name, x, y, z, geomprop, doc)                                                    \
+    uniforms += "uniform vec3 u_" #name ";\n";                                                     \
+    args += "u_" #name ", ";
+#include "prismatic_retroreflector_params.def"
+#undef RP_FLOAT
+#undef RP_COLOR
+#undef RP_ENUM
+#undef RP_VECTOR
+    return "#version 430\n"
+           "layout(local_size_x = 64) in;\n" +
+           library +
+           "\nlayout(std430, binding = 0) readonly buffer RpPairs { vec4 rp_pairs[]; };\n"
+           "layout(std430, binding = 1) writeonly buffer RpOut { float rp_out[]; };\n"
+           "uniform int rp_count;\n" +
+           uniforms +
+           "void main() {\n"
+           "    uint i = gl_GlobalInvocationID.x;\n"
+           "    if (i >= uint(rp_count)) return;\n"
+           "    vec3 surface;\n    vec3 retro;\n    vec3 diffuse;\n    float pdf;\n"
+           "    rp_prismatic_retroreflector_eval(" +
+           args +
+           "rp_pairs[2u * i].xyz, rp_pairs[2u * i + 1u].xyz, surface, retro, diffuse, pdf);\n"
+           "    uint o = 10u * i;\n"
+           "    rp_out[o + 0u] = surface.x; rp_out[o + 1u] = surface.y; rp_out[o + 2u] = surface.z;\n"
+           "    rp_out[o + 3u] = retro.x; rp_out[o + 4u] = retro.y; rp_out[o + 5u] = retro.z;\n"
+           "    rp_out[o + 6u] = diffuse.x; rp_out[o + 7u] = diffuse.y; rp_out[o + 8u] = diffuse.z;\n"
+           "    rp_out[o + 9u] = pdf;\n"
+           "}\n";
+}
+
+} // namespace
+
+struct Runner::Impl {
+    EGLDisplay display = EGL_NO_DISPLAY;
+    EGLContext context = EGL_NO_CONTEXT;
+    GLuint program = 0;
+};
+
+Runner::Runner(const std::string& library) : impl_(new Impl) {
+    Impl& g = *impl_;
+    if (!epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_MESA_platform_surfaceless"))
+        throw GlError("EGL: the client extension EGL_MESA_platform_surfaceless is missing "
+                      "(install Mesa: libegl-mesa0 libgl1-mesa-dri)");
+    g.display = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+    EGLint major = 0, minor = 0;
+    if (g.display == EGL_NO_DISPLAY || !eglInitialize(g.display, &major, &minor))
+        throw GlError("EGL: cannot initialise a surfaceless display (error " +
+                      egl_error_name(eglGetError()) + ")");
+    if (!eglBindAPI(EGL_OPENGL_API)) throw GlError("EGL: cannot bind the OpenGL API");
+    const EGLint configAttribs[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE,
+                                    EGL_OPENGL_BIT, EGL_NONE};
+    EGLConfig config = nullptr;
+    EGLint count = 0;
+    if (!eglChooseConfig(g.display, configAttribs, &config, 1, &count) || count < 1) {
+        if (!epoxy_has_egl_extension(g.display, "EGL_KHR_no_config_context"))
+            throw GlError("EGL: no OpenGL-capable config on the surfaceless display");
+        config = EGL_NO_CONFIG_KHR;
+    }
+    const EGLint contextAttribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5,
+                                     EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                                     EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+    g.context = eglCreateContext(g.display, config, EGL_NO_CONTEXT, contextAttribs);
+    if (g.context == EGL_NO_CONTEXT)
+        throw GlError("EGL: cannot create an OpenGL 4.5 core context (error " +
+                      egl_error_name(eglGetError()) + ")");
+    if (!eglMakeCurrent(g.display, EGL_NO_SURFACE, EGL_NO_SURFACE, g.context))
+        throw GlError("EGL: cannot make the context current without a surface (error " +
+                      egl_error_name(eglGetError()) + ")");
+
+    const std::string source = compute_source(library);
+    const char* text = source.c_str();
+    GLuint shader = glCreateShader(GL_COMPUTE_SHADER);
+    glShaderSource(shader, 1, &text, nullptr);
+    glCompileShader(shader);
+    GLint ok = 0;
+    glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+        GLint len = 0;
+        glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &len);
+        std::string log(size_t(std::max(len, 1)), '\0');
+        glGetShaderInfoLog(shader, len, nullptr, &log[0]);
+        glDeleteShader(shader);
+        throw GlError("GLSL: the compute shader does not compile:\n" + log);
+    }
+    g.program = glCreateProgram();
+    glAttachShader(g.program, shader);
+    glLinkProgram(g.program);
+    glDeleteShader(shader);
+    glGetProgramiv(g.program, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        GLint len = 0;
+        glGetProgramiv(g.program, GL_INFO_LOG_LENGTH, &len);
+        std::string log(size_t(std::max(len, 1)), '\0');
+        glGetProgramInfoLog(g.program, len, nullptr, &log[0]);
+        throw GlError("GLSL: the compute program does not link:\n" + log);
+    }
+}
+
+Runner::~Runner() {
+    Impl& g = *impl_;
+    if (g.program) glDeleteProgram(g.program);
+    if (g.display != EGL_NO_DISPLAY) {
+        eglMakeCurrent(g.display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+        if (g.context != EGL_NO_CONTEXT) eglDestroyContext(g.display, g.context);
+        eglTerminate(g.display);
+    }
+}
+
+std::string Runner::renderer() const {
+    const char* r = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+    const char* v = reinterpret_cast<const char*>(glGetString(GL_VERSION));
+    return std::string(r ? r : "?") + ", OpenGL " + (v ? v : "?");
+}
+
+std::vector<Result> Runner::evaluate(const Params& p, const std::vector<std::array<Vec3d, 2>>& pairs) {
+    Impl& g = *impl_;
+    std::vector<Result> results(pairs.size());
+    if (pairs.empty()) return results;
+    glUseProgram(g.program);
+    auto loc = [&](const char* name) { return glGetUniformLocation(g.program, name); };
+#define RP_FLOAT(name, def, lo, hi, doc) glUniform1f(loc("u_" #name), float(p.name));
+#define RP_COLOR(name, r, gg, b, doc)                                                              \
+    glUniform3f(loc("u_" #name), float(p.name[0]), float(p.name[1]), float(p.name[2]));
+#define RP_ENUM(name, def, values, doc) glUniform1i(loc("u_" #name), p.name);
+#define RP_VECTOR(name, x, y, z, geomprop, doc)                                                    \
+    glUniform3f(loc("u_" #name), float(p.name[0]), float(p.name[1]), float(p.name[2]));
+#include "prismatic_retroreflector_params.def"
+#undef RP_FLOAT
+#undef RP_COLOR
+#undef RP_ENUM
+#undef RP_VECTOR
+    glUniform1i(loc("rp_count"), GLint(pairs.size()));
+    std::vector<float> in(pairs.size() * 8);
+    for (size_t i = 0; i < pairs.size(); ++i)
+        for (int k = 0; k < 2; ++k)
+            for (int c = 0; c < 3; ++c) in[8 * i + 4 * k + c] = float(pairs[i][k][c]);
+    GLuint buffers[2];
+    glGenBuffers(2, buffers);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, buffers[0]);
+    glBufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr(in.size() * sizeof(float)), in.data(), GL_STATIC_DRAW);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buffers[0]);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, buffers[1]);
+    glBufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr(pairs.size() * 10 * sizeof(float)), nullptr,
+                 GL_DYNAMIC_READ);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, buffers[1]);
+    glDispatchCompute(GLuint((pairs.size() + 63) / 64), 1, 1);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    std::vector<float> out(pairs.size() * 10);
+    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, GLsizeiptr(out.size() * sizeof(float)), out.data());
+    glDeleteBuffers(2, buffers);
+    GLenum err = glGetError();
+    if (err != GL_NO_ERROR) {
+        char buf[64];
+        std::snprintf(buf, sizeof buf, "OpenGL: error 0x%04x while evaluating", unsigned(err));
+        throw GlError(buf);
+    }
+    for (size_t i = 0; i < pairs.size(); ++i) {
+        const float* o = &out[10 * i];
+        results[i].surface = {o[0], o[1], o[2]};
+        results[i].retro = {o[3], o[4], o[5]};
+        results[i].diffuse = {o[6], o[7], o[8]};
+        results[i].pdf = o[9];
+    }
+    return results;
+}
+
+} // namespace retroprism::gl

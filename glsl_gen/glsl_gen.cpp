@@ -1,0 +1,326 @@
+#include "glsl_gen.h"
+
+#include <cstdio>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <stdexcept>
+
+namespace retroprism::glsl {
+
+namespace {
+
+const char* const kEraNames[] = {"averaged", "matched_pair", "oriented"};
+const char* const kPrismNames[] = {"ideal", "tir", "metallized"};
+const char* const kEraConst[] = {"RP_ERA_AVERAGED", "RP_ERA_MATCHED_PAIR", "RP_ERA_ORIENTED"};
+const char* const kPrismConst[] = {"RP_PRISM_IDEAL", "RP_PRISM_TIR", "RP_PRISM_METALLIZED"};
+
+const std::set<std::string>& known_features() {
+    static const std::set<std::string> names = {
+        "surface",     "retro",     "diffuse",          "era_averaged",    "era_matched_pair",
+        "era_oriented", "prism_ideal", "prism_tir", "prism_metallized"};
+    return names;
+}
+
+std::string read_file(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw std::runtime_error(path + ": cannot open file");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+std::string trim(const std::string& s) {
+    size_t a = s.find_first_not_of(" \t\r");
+    size_t b = s.find_last_not_of(" \t\r");
+    return a == std::string::npos ? "" : s.substr(a, b - a + 1);
+}
+
+// "a&b|c": true when every feature of some '|'-term is kept.
+bool evaluate(const std::string& expr, const std::set<std::string>& feats, const std::string& where) {
+    std::stringstream terms(expr);
+    std::string term;
+    bool any = false;
+    while (std::getline(terms, term, '|')) {
+        std::stringstream names(term);
+        std::string name;
+        bool all = true;
+        while (std::getline(names, name, '&')) {
+            name = trim(name);
+            if (!known_features().count(name))
+                throw std::runtime_error(where + ": unknown feature '" + name + "' in @rp-if");
+            all = all && feats.count(name) > 0;
+        }
+        any = any || all;
+    }
+    return any;
+}
+
+// Drops the "// @rp-if" regions a variant leaves out, and the marker lines themselves.
+std::string select_regions(const std::string& text, const std::string& file,
+                           const std::set<std::string>& feats) {
+    std::stringstream in(text);
+    std::string line, out;
+    std::vector<bool> keep;
+    int lineNo = 0;
+    while (std::getline(in, line)) {
+        ++lineNo;
+        const std::string where = file + ":" + std::to_string(lineNo);
+        for (unsigned char c : line)
+            if (c >= 0x80) throw std::runtime_error(where + ": non-ASCII character (GLSL sources must be ASCII)");
+        const std::string t = trim(line);
+        if (t.rfind("// @rp-if ", 0) == 0) {
+            bool parent = keep.empty() || keep.back();
+            keep.push_back(parent && evaluate(t.substr(10), feats, where));
+            continue;
+        }
+        if (t == "// @rp-endif") {
+            if (keep.empty()) throw std::runtime_error(where + ": @rp-endif without @rp-if");
+            keep.pop_back();
+            continue;
+        }
+        if (t.rfind("// @rp-", 0) == 0) throw std::runtime_error(where + ": unknown marker '" + t + "'");
+        if (keep.empty() || keep.back()) out += line + "\n";
+    }
+    if (!keep.empty()) throw std::runtime_error(file + ": @rp-if without @rp-endif");
+    return out;
+}
+
+// A GLSL float literal that round-trips a float.
+std::string lit(double x) {
+    char buf[40];
+    std::snprintf(buf, sizeof buf, "%.9g", x);
+    std::string s = buf;
+    if (s.find_first_of(".e") == std::string::npos) s += ".0";
+    return s;
+}
+
+// Lines of table data (numbers and commas only) with each number at float precision: the
+// tables carry 17 digits for the double C++ node, GLSL's float needs 9.
+std::string shorten_table_lines(const std::string& text) {
+    static const std::regex dataLine(R"(^[-+0-9.eE, ]+$)");
+    std::stringstream in(text);
+    std::string line, out;
+    while (std::getline(in, line)) {
+        if (!line.empty() && std::regex_match(line, dataLine)) {
+            std::stringstream items(line);
+            std::string item, rebuilt;
+            bool first = true;
+            while (std::getline(items, item, ',')) {
+                item = trim(item);
+                if (item.empty()) continue;
+                rebuilt += (first ? "" : ", ") + lit(std::stod(item));
+                first = false;
+            }
+            if (line.back() == ',') rebuilt += ",";
+            line = rebuilt;
+        }
+        out += line + "\n";
+    }
+    return out;
+}
+
+// The common-subset spellings as GLSL.
+std::string to_glsl(std::string s, const Variant& v) {
+    s = shorten_table_lines(s);
+    s = std::regex_replace(s, std::regex(R"(RP_TABLE_BEGIN\((\w+), (\d+)\))"),
+                           "const float $1[$2] = float[$2](");
+    s = std::regex_replace(s, std::regex(R"(\bRP_TABLE_END\b)"), ");");
+    s = std::regex_replace(s, std::regex(R"(\bRP_FN )"), "");
+    s = std::regex_replace(s, std::regex(R"(\bRP_OUT\((\w+)\))"), "out $1");
+    s = std::regex_replace(s, std::regex(R"(\bRP_IN\((\w+)\))"), "in $1");
+    s = std::regex_replace(s, std::regex(R"(\breal\b)"), "float");
+    if (v.era_mode >= 0) s = std::regex_replace(s, std::regex(R"(\bm\.era_mode\b)"), kEraConst[v.era_mode]);
+    if (v.prism_reflection >= 0)
+        s = std::regex_replace(s, std::regex(R"(\bm\.prism_reflection\b)"), kPrismConst[v.prism_reflection]);
+    return s;
+}
+
+std::string entry_point(const Variant& v) {
+    std::string sanitize;
+    int enumIndex = 0;
+#define RP_FLOAT(name, def, lo, hi, doc)                                                           \
+    sanitize += "    " #name " = rp_sanitize(" #name ", " + lit(lo) + ", " + lit(hi) + ", " +      \
+                lit(def) + ");\n";
+#define RP_COLOR(name, r, g, b, doc)                                                               \
+    sanitize += "    " #name " = vec3(rp_sanitize(" #name ".x, 0.0, 1.0, " + lit(r) +              \
+                "), rp_sanitize(" #name ".y, 0.0, 1.0, " + lit(g) + "), rp_sanitize(" #name        \
+                ".z, 0.0, 1.0, " + lit(b) + "));\n";
+#define RP_ENUM(name, def, values, doc)                                                            \
+    {                                                                                              \
+        int count = 1;                                                                             \
+        for (const char* c = values; *c; ++c) count += *c == ',';                                 \
+        sanitize += "    if (" #name " < 0 || " #name " > " + std::to_string(count - 1) + ") " #name \
+                    " = " + std::to_string(def) + ";\n";                                           \
+        ++enumIndex;                                                                               \
+    }
+#define RP_VECTOR(name, x, y, z, geomprop, doc)
+#include "prismatic_retroreflector_params.def"
+#undef RP_FLOAT
+#undef RP_COLOR
+#undef RP_ENUM
+#undef RP_VECTOR
+    (void)enumIndex;
+    std::string fixed;
+    if (v.era_mode >= 0) fixed += "    era_mode = " + std::string(kEraConst[v.era_mode]) + ";\n";
+    if (v.prism_reflection >= 0)
+        fixed += "    prism_reflection = " + std::string(kPrismConst[v.prism_reflection]) + ";\n";
+    return "// The node, evaluated: f (1/sr, without the cosine) per lobe for wi (toward the light)\n"
+           "// and wo (toward the viewer), both given in the space of `normal` and `tangent`, and\n"
+           "// the pdf of the node's sampling. Inputs are sanitised as in every backend: clamped\n"
+           "// into their ranges, NaN replaced by the default.\n"
+           "void rp_prismatic_retroreflector_eval(" +
+           entry_signature() +
+           ") {\n"
+           "    surface = vec3(0.0);\n"
+           "    retro = vec3(0.0);\n"
+           "    diffuse = vec3(0.0);\n"
+           "    pdf = 0.0;\n" +
+           sanitize + fixed +
+           "    vec3 fN;\n"
+           "    vec3 fT;\n"
+           "    vec3 fB;\n"
+           "    rp_make_frame(normal, tangent, fN, fT, fB);\n"
+           "    vec3 wiLocal;\n"
+           "    vec3 woLocal;\n"
+           "    if (!rp_to_local(fN, fT, fB, wi, wiLocal) || !rp_to_local(fN, fT, fB, wo, woLocal)) return;\n"
+           "    rp_material m = rp_prepare(weight, diffuse_color, retro_color, specular, roughness, ior,\n"
+           "                               prism_reflection, metal_reflectance, era_mode, orientation, 0);\n"
+           "    rp_lobes lobes;\n"
+           "    rp_eval(m, wiLocal, woLocal, lobes, pdf);\n"
+           "    surface = lobes.surface;\n"
+           "    retro = lobes.retro;\n"
+           "    diffuse = lobes.diffuse;\n"
+           "}\n";
+}
+
+} // namespace
+
+std::string Variant::describe() const {
+    std::string lobes;
+    if (surface) lobes += "surface ";
+    if (retro) lobes += "retro ";
+    if (diffuse) lobes += "diffuse ";
+    return "lobes: " + lobes + "| era_mode: " + (era_mode < 0 ? "runtime" : kEraNames[era_mode]) +
+           " | prism_reflection: " + (prism_reflection < 0 ? "runtime" : kPrismNames[prism_reflection]);
+}
+
+std::vector<Variant> standard_variants() {
+    std::vector<Variant> out;
+    out.push_back(Variant{"prismatic_retroreflector"});
+    // Lobe subsets, modes at run time.
+    for (int mask = 1; mask < 7; ++mask) {
+        Variant v;
+        v.surface = mask & 1;
+        v.retro = mask & 2;
+        v.diffuse = mask & 4;
+        v.name = "prismatic_retroreflector";
+        if (v.surface) v.name += "_surface";
+        if (v.retro) v.name += "_retro";
+        if (v.diffuse) v.name += "_diffuse";
+        out.push_back(v);
+    }
+    // Every ERA mode with every prism reflection, all lobes.
+    for (int era = 0; era < 3; ++era)
+        for (int prism = 0; prism < 3; ++prism) {
+            Variant v;
+            v.era_mode = era;
+            v.prism_reflection = prism;
+            v.name = std::string("prismatic_retroreflector_") + kEraNames[era] + "_" + kPrismNames[prism];
+            out.push_back(v);
+        }
+    return out;
+}
+
+std::set<std::string> features(const Variant& v) {
+    std::set<std::string> f;
+    if (v.surface) f.insert("surface");
+    if (v.retro) f.insert("retro");
+    if (v.diffuse) f.insert("diffuse");
+    for (int i = 0; i < 3; ++i) {
+        if (v.era_mode < 0 || v.era_mode == i) f.insert(std::string("era_") + kEraNames[i]);
+        if (v.prism_reflection < 0 || v.prism_reflection == i)
+            f.insert(std::string("prism_") + kPrismNames[i]);
+    }
+    return f;
+}
+
+std::string entry_signature() {
+    std::string sig;
+#define RP_FLOAT(name, def, lo, hi, doc) sig += "float " #name ", ";
+#define RP_COLOR(name, r, g, b, doc) sig += "vec3 " #name ", ";
+#define RP_ENUM(name, def, values, doc) sig += "int " #name ", ";
+#define RP_VECTOR(name, x, y, z, geomprop, doc) sig += "vec3 " #name ", ";
+#include "prismatic_retroreflector_params.def"
+#undef RP_FLOAT
+#undef RP_COLOR
+#undef RP_ENUM
+#undef RP_VECTOR
+    return sig + "vec3 wi, vec3 wo, out vec3 surface, out vec3 retro, out vec3 diffuse, out float pdf";
+}
+
+std::string generate_library(const Variant& v, const std::string& sourceDir) {
+    const std::set<std::string> feats = features(v);
+    auto part = [&](const std::string& rel) {
+        return to_glsl(select_regions(read_file(sourceDir + "/" + rel), rel, feats), v);
+    };
+    std::string out;
+    out += "// " + v.name + ".glsl: the prismatic retroreflector node (Guo, Guo & Pan 2018) as GLSL.\n"
+           "// Generated by retroprism_glsl_gen from nodes/prism_core.inc, nodes/prism_special.inc,\n"
+           "// nodes/generated/prism_tables.inc, glsl_gen/prelude.glsl and the parameter table;\n"
+           "// do not edit. Variant: " + v.describe() + ".\n"
+           "// Valid as GLSL 4.x, ESSL 3.00 and Vulkan GLSL (the includer supplies #version and,\n"
+           "// for ESSL, default precision). Entry point: rp_prismatic_retroreflector_eval.\n\n";
+    out += part("glsl_gen/prelude.glsl") + "\n";
+    out += part("nodes/prism_special.inc") + "\n";
+    out += "float rp_erfinv(float x) {\n    return rp_erfinv_giles(x);\n}\n\n";
+    if (v.diffuse) out += "float rp_fdr_external(float eta);\n\n";
+    out += part("nodes/generated/prism_tables.inc") + "\n";
+    out += part("nodes/prism_core.inc") + "\n";
+    if (v.diffuse)
+        out += "float rp_fdr_external(float eta) {\n    return rp_fdr_external_table(eta);\n}\n\n";
+    out += entry_point(v);
+    return out;
+}
+
+std::string wrap_fragment(const std::string& library, Target target) {
+    // The node's inputs as a uniform block (Vulkan GLSL has no loose uniforms).
+    std::string block, args;
+#define RP_FLOAT(name, def, lo, hi, doc) block += "    float " #name ";\n"; args += "u." #name ", ";
+#define RP_COLOR(name, r, g, b, doc) block += "    vec4 " #name ";\n"; args += "u." #name ".xyz, ";
+#define RP_ENUM(name, def, values, doc) block += "    int " #name ";\n"; args += "u." #name ", ";
+#define RP_VECTOR(name, x, y, z, geomprop, doc)                                                    \
+    block += "    vec4 " #name ";\n";                                                              \
+    args += "u." #name ".xyz, ";
+#include "prismatic_retroreflector_params.def"
+#undef RP_FLOAT
+#undef RP_COLOR
+#undef RP_ENUM
+#undef RP_VECTOR
+    std::string head;
+    std::string layout = "layout(std140) uniform";
+    switch (target) {
+    case Target::Glsl450:
+        head = "#version 450\n";
+        break;
+    case Target::Essl300:
+        head = "#version 300 es\nprecision highp float;\nprecision highp int;\n";
+        break;
+    case Target::Vulkan:
+        head = "#version 450\n";
+        layout = "layout(set = 0, binding = 0, std140) uniform";
+        break;
+    }
+    return head + library + "\n" + layout + " RpInputs {\n" + block +
+           "    vec4 wi;\n    vec4 wo;\n} u;\n"
+           "layout(location = 0) out vec4 fragColor;\n"
+           "void main() {\n"
+           "    vec3 surface;\n    vec3 retro;\n    vec3 diffuse;\n    float pdf;\n"
+           "    rp_prismatic_retroreflector_eval(" +
+           args +
+           "u.wi.xyz, u.wo.xyz, surface, retro, diffuse, pdf);\n"
+           "    fragColor = vec4(surface + retro + diffuse, pdf);\n"
+           "}\n";
+}
+
+} // namespace retroprism::glsl

@@ -1,0 +1,45 @@
+// glsl_gen.h: generation of the node's GLSL library from the single sources of truth: the math
+// core (nodes/prism_core.inc, prism_special.inc, generated/prism_tables.inc) and the parameter
+// table (nodes/prismatic_retroreflector_params.def). A variant fixes, at generation time, which
+// lobes exist and which ERA mode and prism reflection are used; the code it leaves out is not
+// in the generated text (not a runtime branch).
+#pragma once
+
+#include <set>
+#include <string>
+#include <vector>
+
+namespace retroprism::glsl {
+
+struct Variant {
+    std::string name;
+    bool surface = true;
+    bool retro = true;
+    bool diffuse = true;
+    int era_mode = -1;         // -1: chosen at run time by the era_mode input
+    int prism_reflection = -1; // -1: chosen at run time by the prism_reflection input
+    std::string describe() const;
+};
+
+// The full runtime variant (`prismatic_retroreflector`) first, then the specialised ones that
+// are generated and checked in under glsl_gen/generated/.
+std::vector<Variant> standard_variants();
+
+// The features a variant keeps (the names used by "// @rp-if" regions in the core).
+std::set<std::string> features(const Variant& v);
+
+// The GLSL library of a variant (no #version line): prelude, special functions, tables, core,
+// and the entry point rp_prismatic_retroreflector_eval. `source_dir` is the project root.
+// Throws std::runtime_error naming the file and line of a malformed region or a non-ASCII
+// character.
+std::string generate_library(const Variant& v, const std::string& source_dir);
+
+// A fragment shader around a generated library for validating it with glslangValidator: the
+// inputs in a uniform block, the entry point called from main.
+enum class Target { Glsl450, Essl300, Vulkan };
+std::string wrap_fragment(const std::string& library, Target target);
+
+// The entry point's GLSL signature: the node inputs in table order, then the directions.
+std::string entry_signature();
+
+} // namespace retroprism::glsl

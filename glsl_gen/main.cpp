@@ -1,0 +1,50 @@
+// retroprism_glsl_gen: writes glsl_gen/generated/<variant>.glsl for every standard variant, or
+// with --check compares them with what is checked in (exit 1 on any difference).
+//
+//   retroprism_glsl_gen SOURCE_DIR [--check]
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "glsl_gen.h"
+
+int main(int argc, char** argv) {
+    if (argc < 2 || argc > 3 || (argc == 3 && std::strcmp(argv[2], "--check") != 0)) {
+        std::fprintf(stderr, "usage: retroprism_glsl_gen SOURCE_DIR [--check]\n");
+        return 2;
+    }
+    const std::string root = argv[1];
+    const bool check = argc == 3;
+    int differing = 0;
+    try {
+        for (const auto& v : retroprism::glsl::standard_variants()) {
+            const std::string text = retroprism::glsl::generate_library(v, root);
+            const std::string path = root + "/glsl_gen/generated/" + v.name + ".glsl";
+            if (check) {
+                std::ifstream in(path, std::ios::binary);
+                std::stringstream ss;
+                ss << in.rdbuf();
+                if (!in || ss.str() != text) {
+                    std::fprintf(stderr, "%s: differs from what glsl_gen generates (run "
+                                         "retroprism_glsl_gen %s)\n", path.c_str(), root.c_str());
+                    ++differing;
+                }
+            } else {
+                std::ofstream out(path, std::ios::binary);
+                out << text;
+                if (!out) throw std::runtime_error(path + ": cannot write");
+                std::printf("wrote %s (%s)\n", path.c_str(), v.describe().c_str());
+            }
+        }
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "retroprism_glsl_gen: %s\n", e.what());
+        return 1;
+    }
+    if (check) {
+        std::printf("glsl_gen: %d of %zu generated files differ\n", differing,
+                    retroprism::glsl::standard_variants().size());
+    }
+    return differing == 0 ? 0 : 1;
+}
