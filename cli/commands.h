@@ -9,5 +9,6 @@ int cmd_era(int argc, const char** argv);
 int cmd_albedo(int argc, const char** argv);
 int cmd_demo(int argc, const char** argv);
 int cmd_params(int argc, const char** argv);
+int cmd_check(int argc, const char** argv);
 
 } // namespace retroprism

@@ -1,5 +1,6 @@
 // retroprism: the command-line tool over the node library (a thin layer: every figure it
 // prints comes from nodes/).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -8,6 +9,7 @@
 
 #include <OpenImageIO/argparse.h>
 
+#include "check.h"
 #include "commands.h"
 #include "query.h"
 
@@ -27,6 +29,7 @@ const char* kUsage =
     "                                      per-lobe and total directional albedo\n"
     "  demo [--out DIR] [--materials DIR]  BRDF slice plots of the bundled example materials\n"
     "  params                              the node's inputs as a Markdown table\n"
+    "  check [--backend NAME]              cross-check backends against cpp-double\n"
     "\n"
     "`retroprism COMMAND --help` describes a command.\n";
 
@@ -138,6 +141,44 @@ int cmd_albedo(int argc, const char** argv) {
     return 0;
 }
 
+int cmd_check(int argc, const char** argv) {
+    OIIO::ArgParse ap;
+    ap.intro("retroprism check: every backend (or --backend NAME) against cpp-double over the "
+             "deterministic query set, under the tolerance contract of cli/check.h")
+        .usage("retroprism check [--backend NAME]");
+    ap.arg("--backend NAME").help("one backend only (default: all)");
+    int status = 0;
+    if (!parse(ap, argc, argv, status)) return status;
+    std::vector<std::string> backends = backend_names();
+    const std::string only = ap["backend"].get<std::string>();
+    if (!only.empty()) {
+        if (std::find(backends.begin(), backends.end(), only) == backends.end())
+            throw InputError("--backend " + only + ": unknown backend");
+        backends = {only};
+    }
+    const ToleranceContract contract;
+    std::printf("tolerance contract: per value %.0e relative (floor %.0e of the lobe's peak, plus "
+                "%.0f ulps of input sensitivity), at most %.1f%% of samples above it, none above "
+                "%.0e\n",
+                contract.per_sample, contract.floor_fraction, contract.input_ulps,
+                100 * contract.allowed_fraction, contract.hard_max);
+    std::printf("%-12s %8s %8s %12s %12s %12s %9s  %s\n", "backend", "samples", "values", "max_err",
+                "median_err", "max_rel", "failures", "result");
+    bool all = true;
+    std::vector<CheckReport> reports;
+    for (const std::string& b : backends) {
+        CheckReport r = check_backend(b, contract);
+        std::printf("%-12s %8ld %8ld %12.3g %12.3g %12.3g %9ld  %s\n", r.backend.c_str(), r.samples,
+                    r.values, r.max_err, r.median_err, r.max_rel, r.failures, r.passed ? "pass" : "FAIL");
+        std::fflush(stdout);
+        reports.push_back(r);
+        all = all && r.passed;
+    }
+    for (const CheckReport& r : reports)
+        if (r.max_err > 0) std::printf("worst %s: %s\n", r.backend.c_str(), r.worst.c_str());
+    return all ? 0 : 1;
+}
+
 int cmd_params(int argc, const char** argv) {
     OIIO::ArgParse ap;
     ap.intro("retroprism params: the node's inputs (the parameter table) as a Markdown table")
@@ -162,6 +203,7 @@ int main(int argc, const char** argv) {
         if (cmd == "albedo") return cmd_albedo(argc - 1, argv + 1);
         if (cmd == "demo") return cmd_demo(argc - 1, argv + 1);
         if (cmd == "params") return cmd_params(argc - 1, argv + 1);
+        if (cmd == "check") return cmd_check(argc - 1, argv + 1);
     } catch (const InputError& e) {
         std::fprintf(stderr, "retroprism %s: error: %s\n", cmd.c_str(), e.what());
         return 1;

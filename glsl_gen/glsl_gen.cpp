@@ -130,9 +130,12 @@ std::string to_glsl(std::string s, const Variant& v) {
     s = std::regex_replace(s, std::regex(R"(\bRP_OUT\((\w+)\))"), "out $1");
     s = std::regex_replace(s, std::regex(R"(\bRP_IN\((\w+)\))"), "in $1");
     s = std::regex_replace(s, std::regex(R"(\breal\b)"), "float");
-    if (v.era_mode >= 0) s = std::regex_replace(s, std::regex(R"(\bm\.era_mode\b)"), kEraConst[v.era_mode]);
+    // A fixed mode is a constant wherever it is read (its assignment in rp_prepare stays).
+    if (v.era_mode >= 0)
+        s = std::regex_replace(s, std::regex(R"(\bm\.era_mode\b(?!\s*=[^=]))"), kEraConst[v.era_mode]);
     if (v.prism_reflection >= 0)
-        s = std::regex_replace(s, std::regex(R"(\bm\.prism_reflection\b)"), kPrismConst[v.prism_reflection]);
+        s = std::regex_replace(s, std::regex(R"(\bm\.prism_reflection\b(?!\s*=[^=]))"),
+                               kPrismConst[v.prism_reflection]);
     return s;
 }
 

@@ -1409,9 +1409,9 @@ rp_material rp_prepare(float weight, vec3 diffuseColor, vec3 retroColor, float s
     m.diffuse_color = diffuseColor;
     m.alpha = max(roughness, RP_MIN_ALPHA);
     m.eta = ior;
-    RP_PRISM_IDEAL = prismReflection;
+    m.prism_reflection = prismReflection;
     m.metal_r3 = metalReflectance * metalReflectance * metalReflectance;
-    RP_ERA_AVERAGED = eraMode;
+    m.era_mode = eraMode;
     float rot = orientationDeg * (RP_PI / float(180.0));
     float c = cos(rot);
     float s = sin(rot);

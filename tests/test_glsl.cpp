@@ -1,0 +1,180 @@
+// [glsl]: the generated GLSL is what glsl_gen makes of the core today, compiles for every
+// target, and each specialised variant computes what the C++ reference computes.
+#include <catch2/catch.hpp>
+
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "check.h"
+#include "gl_runner.h"
+#include "glsl_gen.h"
+
+using namespace retroprism;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string read(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+int run_status(const std::string& cmd, std::string* output = nullptr) {
+    FILE* p = popen((cmd + " 2>&1").c_str(), "r");
+    if (!p) return -1;
+    char buf[4096];
+    size_t n;
+    std::string out;
+    while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
+    int st = pclose(p);
+    if (output) *output = out;
+    return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+} // namespace
+
+TEST_CASE("The checked-in GLSL is what glsl_gen generates", "[glsl]") {
+    for (const glsl::Variant& v : glsl::standard_variants()) {
+        INFO(v.name);
+        const fs::path file = fs::path(RP_SOURCE_DIR) / "glsl_gen" / "generated" / (v.name + ".glsl");
+        CHECK(read(file) == glsl::generate_library(v, RP_SOURCE_DIR));
+    }
+    // The binary's embedded copy is the full variant.
+    CHECK(gl::embedded_library() ==
+          read(fs::path(RP_SOURCE_DIR) / "glsl_gen" / "generated" / "prismatic_retroreflector.glsl"));
+}
+
+TEST_CASE("Specialised variants leave out the code they do not use", "[glsl]") {
+    for (const glsl::Variant& v : glsl::standard_variants()) {
+        INFO(v.name);
+        // The code alone: comments may name what the code leaves out.
+        std::stringstream in(glsl::generate_library(v, RP_SOURCE_DIR));
+        std::string text, line;
+        while (std::getline(in, line)) text += line.substr(0, line.find("//")) + "\n";
+        auto has = [&](const char* s) { return text.find(s) != std::string::npos; };
+        CHECK(has("rp_beckmann_sample_visible") == v.surface);
+        CHECK(has("rp_retro_density") == v.retro);
+        CHECK(has("rp_fdr_ext_table") == v.diffuse);
+        const bool averaged = v.era_mode < 0 || v.era_mode == 0;
+        CHECK(has("rp_era_avg_table") == averaged);
+        const bool tir = v.prism_reflection < 0 || v.prism_reflection == 1;
+        CHECK(has("rp_face_reflectance_tir") == tir);
+        if (v.era_mode >= 0) CHECK_FALSE(has("m.era_mode =="));
+        if (v.prism_reflection >= 0) CHECK_FALSE(has("m.prism_reflection =="));
+        CHECK_FALSE(has("@rp-"));
+        CHECK_FALSE(has("RP_FN"));
+        CHECK_FALSE(has(" real "));
+    }
+}
+
+TEST_CASE("Every variant compiles as GLSL 4.50, ESSL 3.00 and Vulkan GLSL", "[glsl]") {
+    const fs::path dir = fs::temp_directory_path() / "retroprism_glslang";
+    fs::create_directories(dir);
+    int compiled = 0;
+    for (const glsl::Variant& v : glsl::standard_variants()) {
+        const std::string lib = glsl::generate_library(v, RP_SOURCE_DIR);
+        const struct {
+            glsl::Target target;
+            const char* suffix;
+            const char* flags;
+        } targets[] = {{glsl::Target::Glsl450, "glsl450", ""},
+                       {glsl::Target::Essl300, "essl300", ""},
+                       {glsl::Target::Vulkan, "vulkan", "-V -o /dev/null"}};
+        for (const auto& t : targets) {
+            const fs::path f = dir / (v.name + "_" + t.suffix + ".frag");
+            std::ofstream(f) << glsl::wrap_fragment(lib, t.target);
+            std::string out;
+            int st = run_status(std::string("glslangValidator ") + t.flags + " " + f.string(), &out);
+            INFO(v.name << " as " << t.suffix << ":\n" << out);
+            CHECK(st == 0);
+            compiled += st == 0;
+        }
+    }
+    std::printf("MEASURED: glslangValidator compiled %d variant x target combinations (%zu "
+                "variants x GLSL 4.50, ESSL 3.00, Vulkan SPIR-V)\n",
+                compiled, glsl::standard_variants().size());
+}
+
+TEST_CASE("Each specialised variant computes what the C++ reference computes", "[glsl]") {
+    const ToleranceContract contract;
+    const std::vector<Query> queries = check_query_set();
+    long total = 0, leftOutNonZero = 0, leftOutValues = 0;
+    double worstAll = 0;
+    for (const glsl::Variant& v : glsl::standard_variants()) {
+        INFO(v.name);
+        gl::Runner runner(glsl::generate_library(v, RP_SOURCE_DIR));
+        long samples = 0, over = 0;
+        double worst = 0;
+        for (Query q : queries) {
+            // The variant's fixed choices, and its lobes, in the reference's material.
+            if (v.era_mode >= 0) q.material.era_mode = v.era_mode;
+            if (v.prism_reflection >= 0) q.material.prism_reflection = v.prism_reflection;
+            std::vector<std::array<Vec3d, 2>> pairs;
+            for (const DirectionPair& s : q.samples) pairs.push_back({s.wi, s.wo});
+            const std::vector<gl::Result> got = runner.evaluate(q.material, pairs);
+            const nlohmann::json ref = answer_query(q, "cpp-double")["results"];
+            const bool on[3] = {v.surface, v.retro, v.diffuse};
+            const char* keys[3] = {"surface", "retro", "diffuse"};
+            double peak[3] = {0, 0, 0};
+            for (const auto& r : ref)
+                for (int k = 0; k < 3; ++k)
+                    for (int c = 0; c < 3; ++c) peak[k] = std::max(peak[k], r[keys[k]][c].get<double>());
+            for (size_t i = 0; i < got.size(); ++i) {
+                const std::array<float, 3>* lobes[3] = {&got[i].surface, &got[i].retro, &got[i].diffuse};
+                double sampleWorst = 0;
+                for (int k = 0; k < 3; ++k)
+                    for (int c = 0; c < 3; ++c) {
+                        const double x = (*lobes[k])[c];
+                        if (!on[k]) {
+                            // A lobe left out contributes exactly nothing.
+                            leftOutValues += 1;
+                            leftOutNonZero += x != 0.0;
+                            continue;
+                        }
+                        const double r = ref[i][keys[k]][c].get<double>();
+                        const double scale = std::max(std::abs(r), contract.floor_fraction * peak[k]);
+                        const double err = x == r ? 0.0 : std::abs(x - r) / scale;
+                        sampleWorst = std::max(sampleWorst, std::isfinite(err) ? err : INFINITY);
+                    }
+                ++samples;
+                over += sampleWorst > contract.per_sample;
+                worst = std::max(worst, sampleWorst);
+            }
+        }
+        // Lobes only: the pdf of a variant without some lobes is that variant's own mixture.
+        // The sensitivity allowance of the contract is left out here, so the allowed fraction
+        // is that of the full check plus the samples the sensitivity term excuses there (the
+        // narrowest lobes at grazing in the tilted frame): 1%, and the hard maximum stands.
+        CHECK(double(over) <= 1e-2 * double(samples));
+        CHECK(worst <= contract.hard_max);
+        total += samples;
+        worstAll = std::max(worstAll, worst);
+    }
+    CHECK(leftOutValues > 0);
+    CHECK(leftOutNonZero == 0);
+    std::printf("MEASURED: %zu GLSL variants on %s: %ld samples, worst lobe relative error %.3g; "
+                "%ld values of left-out lobes, %ld non-zero\n",
+                glsl::standard_variants().size(), "llvmpipe", total, worstAll, leftOutValues,
+                leftOutNonZero);
+}
+
+TEST_CASE("No EGL, a clear error", "[glsl]") {
+    std::ofstream(fs::temp_directory_path() / "retroprism_glsl_q.json")
+        << R"({"samples": [{"wi": [0, 0, 1], "wo": [0, 0, 1]}]})";
+    std::string out;
+    int st = run_status("__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent.json " + std::string(RP_CLI_PATH) +
+                            " eval --backend glsl " +
+                            (fs::temp_directory_path() / "retroprism_glsl_q.json").string(),
+                        &out);
+    CHECK(st != 0);
+    CHECK(out.find("EGL:") != std::string::npos);
+    CHECK(out.find("{\"backend\"") == std::string::npos);
+}
