@@ -11,7 +11,9 @@ using nlohmann::json;
 
 namespace {
 
-double to_float(double v) { return double(float(v)); }
+double to_float(double v) {
+    return double(float(v));
+}
 
 Vec3d float_dir(double x, double y, double z) {
     double len = std::sqrt(x * x + y * y + z * z);
@@ -84,13 +86,15 @@ std::vector<Query> check_query_set() {
                     wos.push_back(float_dir(-wiL[0] + dx, -wiL[1] + dy, wiL[2]));
                 }
             for (double thetaO : {5.0, 40.0, 70.0, 88.0, 89.99})
-                for (double phiO : {0.0, 90.0, 200.0, 290.0}) wos.push_back(dir_deg(thetaO, phiO));
+                for (double phiO : {0.0, 90.0, 200.0, 290.0})
+                    wos.push_back(dir_deg(thetaO, phiO));
             wos.push_back(dir_deg(95.0, 0.0)); // below the horizon
             auto toParent = [&](const Vec3d& l) {
                 glm::dvec3 w = node.to_world(glm::dvec3(l[0], l[1], l[2]));
                 return float_dir(w.x, w.y, w.z);
             };
-            for (const Vec3d& wo : wos) q.samples.push_back({toParent(wiL), toParent(wo)});
+            for (const Vec3d& wo : wos)
+                q.samples.push_back({toParent(wiL), toParent(wo)});
         }
         queries.push_back(q);
     }
@@ -112,7 +116,8 @@ std::vector<std::array<double, 10>> input_sensitivity(const Query& q) {
                 for (DirectionPair& s : turned.samples) {
                     Vec3d& w = dirIdx == 0 ? s.wi : s.wo;
                     glm::dvec3 v(w[0], w[1], w[2]);
-                    glm::dvec3 helper = std::abs(v.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0);
+                    glm::dvec3 helper =
+                        std::abs(v.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0);
                     glm::dvec3 a = glm::normalize(glm::cross(v, helper));
                     glm::dvec3 b = glm::cross(v, a);
                     glm::dvec3 t = v + double(sign) * ulp * (axis == 0 ? a : b);
@@ -124,9 +129,10 @@ std::vector<std::array<double, 10>> input_sensitivity(const Query& q) {
                     for (int k = 0; k < 3; ++k)
                         for (int ch = 0; ch < 3; ++ch)
                             sens[i][3 * k + ch] = std::max(
-                                sens[i][3 * k + ch],
-                                std::abs(r[i][keys[k]][ch].get<double>() - base[i][keys[k]][ch].get<double>()));
-                    sens[i][9] = std::max(sens[i][9], std::abs(r[i]["pdf"].get<double>() - base[i]["pdf"].get<double>()));
+                                sens[i][3 * k + ch], std::abs(r[i][keys[k]][ch].get<double>() -
+                                                              base[i][keys[k]][ch].get<double>()));
+                    sens[i][9] = std::max(sens[i][9], std::abs(r[i]["pdf"].get<double>() -
+                                                               base[i]["pdf"].get<double>()));
                 }
             }
     return sens;
@@ -148,19 +154,22 @@ CheckReport check_backend(const std::string& backend, const ToleranceContract& c
         double peak[4] = {0, 0, 0, 0};
         for (const json& r : ref) {
             for (int k = 0; k < 3; ++k)
-                for (int ch = 0; ch < 3; ++ch) peak[k] = std::max(peak[k], std::abs(r[keys[k]][ch].get<double>()));
+                for (int ch = 0; ch < 3; ++ch)
+                    peak[k] = std::max(peak[k], std::abs(r[keys[k]][ch].get<double>()));
             peak[3] = std::max(peak[3], std::abs(r["pdf"].get<double>()));
         }
         for (size_t i = 0; i < ref.size(); ++i) {
             double worst = 0;
             std::string where;
-            auto compare = [&](double x, double r, double pk, double sensitivity, const std::string& what) {
+            auto compare = [&](double x, double r, double pk, double sensitivity,
+                               const std::string& what) {
                 const double scale = std::max(std::abs(r), c.floor_fraction * pk);
                 const double diff = std::abs(x - r);
                 // Equal values agree whatever the scale (a lobe that is 0 for the whole material
                 // has no peak); any difference at zero scale, or a non-finite value, fails.
                 double rel = diff == 0 ? 0.0 : diff / scale;
-                double err = diff == 0 ? 0.0 : diff / (scale + c.input_ulps * sensitivity / c.per_sample);
+                double err =
+                    diff == 0 ? 0.0 : diff / (scale + c.input_ulps * sensitivity / c.per_sample);
                 if (!std::isfinite(x) || std::isnan(rel) || std::isnan(err)) err = rel = INFINITY;
                 if (!(rel <= rep.max_rel)) rep.max_rel = rel;
                 if (!(err <= worst)) {
@@ -171,28 +180,32 @@ CheckReport check_backend(const std::string& backend, const ToleranceContract& c
             };
             for (int k = 0; k < 3; ++k)
                 for (int ch = 0; ch < 3; ++ch)
-                    compare(got[i][keys[k]][ch].get<double>(), ref[i][keys[k]][ch].get<double>(), peak[k],
-                            sens[i][3 * k + ch], keys[k]);
-            compare(got[i]["pdf"].get<double>(), ref[i]["pdf"].get<double>(), peak[3], sens[i][9], "pdf");
+                    compare(got[i][keys[k]][ch].get<double>(), ref[i][keys[k]][ch].get<double>(),
+                            peak[k], sens[i][3 * k + ch], keys[k]);
+            compare(got[i]["pdf"].get<double>(), ref[i]["pdf"].get<double>(), peak[3], sens[i][9],
+                    "pdf");
             rep.samples += 1;
             if (worst > c.per_sample) rep.failures += 1;
             sampleErr.push_back(worst);
             if (!(worst <= rep.max_err)) {
                 rep.max_err = worst;
                 std::ostringstream ss;
-                ss << "material " << qi << " " << params_to_json(q.material).dump() << ", sample " << i
-                   << " wi " << json(q.samples[i].wi).dump() << " wo " << json(q.samples[i].wo).dump()
-                   << ", " << where << ": " << ref[i][where == "pdf" ? "pdf" : where].dump() << " vs "
+                ss << "material " << qi << " " << params_to_json(q.material).dump() << ", sample "
+                   << i << " wi " << json(q.samples[i].wi).dump() << " wo "
+                   << json(q.samples[i].wo).dump() << ", " << where << ": "
+                   << ref[i][where == "pdf" ? "pdf" : where].dump() << " vs "
                    << got[i][where == "pdf" ? "pdf" : where].dump();
                 rep.worst = ss.str();
             }
         }
     }
     if (!sampleErr.empty()) {
-        std::nth_element(sampleErr.begin(), sampleErr.begin() + long(sampleErr.size() / 2), sampleErr.end());
+        std::nth_element(sampleErr.begin(), sampleErr.begin() + long(sampleErr.size() / 2),
+                         sampleErr.end());
         rep.median_err = sampleErr[sampleErr.size() / 2];
     }
-    rep.passed = rep.samples > 0 && double(rep.failures) <= c.allowed_fraction * double(rep.samples) &&
+    rep.passed = rep.samples > 0 &&
+                 double(rep.failures) <= c.allowed_fraction * double(rep.samples) &&
                  rep.max_err <= c.hard_max;
     return rep;
 }

@@ -49,7 +49,7 @@ struct CheckReport {
     std::string backend;
     long samples = 0;
     long values = 0;
-    long failures = 0; // samples with some err > per_sample
+    long failures = 0;     // samples with some err > per_sample
     double max_err = 0;    // largest err as defined by the contract
     double max_rel = 0;    // largest |x - r| / max(|r|, floor), without the sensitivity term
     double median_err = 0; // median over samples of their largest err

@@ -82,18 +82,27 @@ int cmd_era(int argc, const char** argv) {
     ap.intro("retroprism era: effective retroreflective area A of one inner direction (geometry "
              "alone, no face reflectance)")
         .usage("retroprism era --theta-t DEG [--phi DEG] [--mode averaged|matched_pair|oriented]");
-    ap.arg("--theta-t DEG").dest("theta_t").help("polar angle of the refracted direction inside the sheet, [0, 90)");
-    ap.arg("--phi DEG").help("its azimuth relative to one aperture vertex (default 0)").defaultval("0");
-    ap.arg("--mode MODE").help("averaged (default), matched_pair or oriented").defaultval("averaged");
+    ap.arg("--theta-t DEG")
+        .dest("theta_t")
+        .help("polar angle of the refracted direction inside the sheet, [0, 90)");
+    ap.arg("--phi DEG")
+        .help("its azimuth relative to one aperture vertex (default 0)")
+        .defaultval("0");
+    ap.arg("--mode MODE")
+        .help("averaged (default), matched_pair or oriented")
+        .defaultval("averaged");
     int status = 0;
     if (!parse(ap, argc, argv, status)) return status;
-    if (ap["theta_t"].get<std::string>().empty()) throw InputError("era: --theta-t DEG is required");
+    if (ap["theta_t"].get<std::string>().empty())
+        throw InputError("era: --theta-t DEG is required");
     double thetaT = parse_number(ap["theta_t"].get<std::string>(), "--theta-t");
     double phi = parse_number(ap["phi"].get<std::string>(), "--phi");
     if (thetaT < 0 || thetaT >= 90) throw InputError("--theta-t: must be in [0, 90) degrees");
     Params p;
     p.era_mode = enum_index(*find_param("era_mode"), ap["mode"].get<std::string>());
-    if (p.era_mode < 0) throw InputError("--mode " + ap["mode"].get<std::string>() + ": expected averaged, matched_pair or oriented");
+    if (p.era_mode < 0)
+        throw InputError("--mode " + ap["mode"].get<std::string>() +
+                         ": expected averaged, matched_pair or oriented");
     f64::rp_material m = prepare_material(sanitize(p));
     m.prism_reflection = f64::RP_PRISM_IDEAL; // geometry alone
     const double t = thetaT * M_PI / 180.0, ph = phi * M_PI / 180.0;
@@ -125,7 +134,8 @@ int cmd_albedo(int argc, const char** argv) {
     std::vector<double> angles;
     for (const std::string& s : thetas) {
         double thetaI = parse_number(s, "--theta-i");
-        if (thetaI < 0 || thetaI >= 90) throw InputError("--theta-i " + s + ": must be in [0, 90) degrees");
+        if (thetaI < 0 || thetaI >= 90)
+            throw InputError("--theta-i " + s + ": must be in [0, 90) degrees");
         angles.push_back(thetaI);
     }
     PrismaticRetroreflector<double> node(p);
@@ -137,7 +147,8 @@ int cmd_albedo(int argc, const char** argv) {
         std::printf("%10.4g %12.6f %12.6f %12.6f %12.6f\n", thetaI, mean(a.surface), mean(a.retro),
                     mean(a.diffuse), mean(a.total()));
     }
-    std::printf("(RGB channels averaged; surface and retro by 256x256 quadrature, diffuse exact)\n");
+    std::printf(
+        "(RGB channels averaged; surface and retro by 256x256 quadrature, diffuse exact)\n");
     return 0;
 }
 
@@ -169,7 +180,8 @@ int cmd_check(int argc, const char** argv) {
     for (const std::string& b : backends) {
         CheckReport r = check_backend(b, contract);
         std::printf("%-12s %8ld %8ld %12.3g %12.3g %12.3g %9ld  %s\n", r.backend.c_str(), r.samples,
-                    r.values, r.max_err, r.median_err, r.max_rel, r.failures, r.passed ? "pass" : "FAIL");
+                    r.values, r.max_err, r.median_err, r.max_rel, r.failures,
+                    r.passed ? "pass" : "FAIL");
         std::fflush(stdout);
         reports.push_back(r);
         all = all && r.passed;

@@ -98,7 +98,8 @@ Params params_from_json(const json& j, const std::string& where) {
         const ParamInfo* info = find_param(it.key());
         if (!info) {
             std::string names;
-            for (const ParamInfo& i : param_table()) names += std::string(names.empty() ? "" : ", ") + i.name;
+            for (const ParamInfo& i : param_table())
+                names += std::string(names.empty() ? "" : ", ") + i.name;
             throw InputError(field + ": unknown input (inputs: " + names + ")");
         }
         const json& v = it.value();
@@ -139,14 +140,18 @@ json params_to_json(const Params& p) {
 }
 
 Query parse_query(const json& j, const std::string& source) {
-    if (!j.is_object()) throw InputError(source + ": expected an object with \"material\" and \"samples\"");
+    if (!j.is_object())
+        throw InputError(source + ": expected an object with \"material\" and \"samples\"");
     for (auto it = j.begin(); it != j.end(); ++it)
         if (it.key() != "material" && it.key() != "samples")
-            throw InputError(source + ": unknown field \"" + it.key() + "\" (fields: material, samples)");
+            throw InputError(source + ": unknown field \"" + it.key() +
+                             "\" (fields: material, samples)");
     Query q;
     if (j.contains("material")) q.material = params_from_json(j["material"], source + ": material");
     if (!j.contains("samples") || !j["samples"].is_array())
-        throw InputError(source + ": \"samples\" must be an array of {\"wi\", \"wo\"} or {\"wi_deg\", \"wo_deg\"}");
+        throw InputError(
+            source +
+            ": \"samples\" must be an array of {\"wi\", \"wo\"} or {\"wi_deg\", \"wo_deg\"}");
     const json& samples = j["samples"];
     q.samples.reserve(samples.size());
     for (size_t i = 0; i < samples.size(); ++i) {
@@ -157,9 +162,11 @@ Query parse_query(const json& j, const std::string& source) {
         const bool cart = s.contains("wi") || s.contains("wo");
         const bool deg = s.contains("wi_deg") || s.contains("wo_deg");
         if (cart == deg || s.size() != 2)
-            throw InputError(where + ": give exactly \"wi\" and \"wo\" ([x, y, z]) or \"wi_deg\" and \"wo_deg\" ([theta, phi])");
+            throw InputError(where + ": give exactly \"wi\" and \"wo\" ([x, y, z]) or \"wi_deg\" "
+                                     "and \"wo_deg\" ([theta, phi])");
         if (cart) {
-            if (!s.contains("wi") || !s.contains("wo")) throw InputError(where + ": needs both \"wi\" and \"wo\"");
+            if (!s.contains("wi") || !s.contains("wo"))
+                throw InputError(where + ": needs both \"wi\" and \"wo\"");
             d.wi = direction(s["wi"], where + ".wi");
             d.wo = direction(s["wo"], where + ".wo");
         } else {
@@ -191,7 +198,8 @@ std::string params_markdown() {
             break;
         case ParamType::Color:
             type = "color3";
-            def = num(i.default_value[0]) + ", " + num(i.default_value[1]) + ", " + num(i.default_value[2]);
+            def = num(i.default_value[0]) + ", " + num(i.default_value[1]) + ", " +
+                  num(i.default_value[2]);
             range = "[0, 1] per channel";
             break;
         case ParamType::Enum:
@@ -206,16 +214,20 @@ std::string params_markdown() {
             range = "any non-zero";
             break;
         }
-        out += "| `" + std::string(i.name) + "` | " + type + " | " + def + " | " + range + " | " + i.doc + " |\n";
+        out += "| `" + std::string(i.name) + "` | " + type + " | " + def + " | " + range + " | " +
+               i.doc + " |\n";
     }
     return out;
 }
 
-std::vector<std::string> backend_names() { return {"cpp-double", "cpp-float", "glsl"}; }
+std::vector<std::string> backend_names() {
+    return {"cpp-double", "cpp-float", "glsl"};
+}
 
 namespace {
 
-template <class Real> json answer_cpp(const Query& q, const std::string& name) {
+template <class Real>
+json answer_cpp(const Query& q, const std::string& name) {
     using Node = PrismaticRetroreflector<Real>;
     using vec3 = typename Node::vec3;
     Node node(q.material);
@@ -241,7 +253,8 @@ json answer_glsl(const Query& q) {
     static gl::Runner runner(gl::embedded_library());
     std::vector<std::array<Vec3d, 2>> pairs;
     pairs.reserve(q.samples.size());
-    for (const DirectionPair& s : q.samples) pairs.push_back({s.wi, s.wo});
+    for (const DirectionPair& s : q.samples)
+        pairs.push_back({s.wi, s.wo});
     std::vector<gl::Result> res = runner.evaluate(q.material, pairs);
     json results = json::array();
     auto rgb = [](const std::array<float, 3>& v) {
@@ -265,7 +278,8 @@ json answer_query(const Query& q, const std::string& backend) {
     if (backend == "cpp-float") return answer_cpp<float>(q, backend);
     if (backend == "glsl") return answer_glsl(q);
     std::string names;
-    for (const std::string& n : backend_names()) names += (names.empty() ? "" : ", ") + n;
+    for (const std::string& n : backend_names())
+        names += (names.empty() ? "" : ", ") + n;
     throw InputError("--backend " + backend + ": unknown backend (backends: " + names + ")");
 }
 

@@ -50,9 +50,11 @@ std::string compute_source(const std::string& library) {
            args +
            "rp_pairs[2u * i].xyz, rp_pairs[2u * i + 1u].xyz, surface, retro, diffuse, pdf);\n"
            "    uint o = 10u * i;\n"
-           "    rp_out[o + 0u] = surface.x; rp_out[o + 1u] = surface.y; rp_out[o + 2u] = surface.z;\n"
+           "    rp_out[o + 0u] = surface.x; rp_out[o + 1u] = surface.y; rp_out[o + 2u] = "
+           "surface.z;\n"
            "    rp_out[o + 3u] = retro.x; rp_out[o + 4u] = retro.y; rp_out[o + 5u] = retro.z;\n"
-           "    rp_out[o + 6u] = diffuse.x; rp_out[o + 7u] = diffuse.y; rp_out[o + 8u] = diffuse.z;\n"
+           "    rp_out[o + 6u] = diffuse.x; rp_out[o + 7u] = diffuse.y; rp_out[o + 8u] = "
+           "diffuse.z;\n"
            "    rp_out[o + 9u] = pdf;\n"
            "}\n";
 }
@@ -70,7 +72,8 @@ Runner::Runner(const std::string& library) : impl_(new Impl) {
     if (!epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_MESA_platform_surfaceless"))
         throw GlError("EGL: the client extension EGL_MESA_platform_surfaceless is missing "
                       "(install Mesa: libegl-mesa0 libgl1-mesa-dri)");
-    g.display = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+    g.display =
+        eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
     EGLint major = 0, minor = 0;
     if (g.display == EGL_NO_DISPLAY || !eglInitialize(g.display, &major, &minor))
         throw GlError("EGL: cannot initialise a surfaceless display (error " +
@@ -85,9 +88,13 @@ Runner::Runner(const std::string& library) : impl_(new Impl) {
             throw GlError("EGL: no OpenGL-capable config on the surfaceless display");
         config = EGL_NO_CONFIG_KHR;
     }
-    const EGLint contextAttribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5,
+    const EGLint contextAttribs[] = {EGL_CONTEXT_MAJOR_VERSION,
+                                     4,
+                                     EGL_CONTEXT_MINOR_VERSION,
+                                     5,
                                      EGL_CONTEXT_OPENGL_PROFILE_MASK,
-                                     EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+                                     EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                                     EGL_NONE};
     g.context = eglCreateContext(g.display, config, EGL_NO_CONTEXT, contextAttribs);
     if (g.context == EGL_NO_CONTEXT)
         throw GlError("EGL: cannot create an OpenGL 4.5 core context (error " +
@@ -141,7 +148,8 @@ std::string Runner::renderer() const {
     return std::string(r ? r : "?") + ", OpenGL " + (v ? v : "?");
 }
 
-std::vector<Result> Runner::evaluate(const Params& p, const std::vector<std::array<Vec3d, 2>>& pairs) {
+std::vector<Result> Runner::evaluate(const Params& p,
+                                     const std::vector<std::array<Vec3d, 2>>& pairs) {
     Impl& g = *impl_;
     std::vector<Result> results(pairs.size());
     if (pairs.empty()) return results;
@@ -162,11 +170,13 @@ std::vector<Result> Runner::evaluate(const Params& p, const std::vector<std::arr
     std::vector<float> in(pairs.size() * 8);
     for (size_t i = 0; i < pairs.size(); ++i)
         for (int k = 0; k < 2; ++k)
-            for (int c = 0; c < 3; ++c) in[8 * i + 4 * k + c] = float(pairs[i][k][c]);
+            for (int c = 0; c < 3; ++c)
+                in[8 * i + 4 * k + c] = float(pairs[i][k][c]);
     GLuint buffers[2];
     glGenBuffers(2, buffers);
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, buffers[0]);
-    glBufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr(in.size() * sizeof(float)), in.data(), GL_STATIC_DRAW);
+    glBufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr(in.size() * sizeof(float)), in.data(),
+                 GL_STATIC_DRAW);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buffers[0]);
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, buffers[1]);
     glBufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr(pairs.size() * 10 * sizeof(float)), nullptr,
@@ -175,7 +185,8 @@ std::vector<Result> Runner::evaluate(const Params& p, const std::vector<std::arr
     glDispatchCompute(GLuint((pairs.size() + 63) / 64), 1, 1);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     std::vector<float> out(pairs.size() * 10);
-    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, GLsizeiptr(out.size() * sizeof(float)), out.data());
+    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, GLsizeiptr(out.size() * sizeof(float)),
+                       out.data());
     glDeleteBuffers(2, buffers);
     GLenum err = glGetError();
     if (err != GL_NO_ERROR) {

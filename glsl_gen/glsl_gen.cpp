@@ -17,7 +17,7 @@ const char* const kPrismConst[] = {"RP_PRISM_IDEAL", "RP_PRISM_TIR", "RP_PRISM_M
 
 const std::set<std::string>& known_features() {
     static const std::set<std::string> names = {
-        "surface",     "retro",     "diffuse",          "era_averaged",    "era_matched_pair",
+        "surface",      "retro",       "diffuse",   "era_averaged",    "era_matched_pair",
         "era_oriented", "prism_ideal", "prism_tir", "prism_metallized"};
     return names;
 }
@@ -37,7 +37,8 @@ std::string trim(const std::string& s) {
 }
 
 // "a&b|c": true when every feature of some '|'-term is kept.
-bool evaluate(const std::string& expr, const std::set<std::string>& feats, const std::string& where) {
+bool evaluate(const std::string& expr, const std::set<std::string>& feats,
+              const std::string& where) {
     std::stringstream terms(expr);
     std::string term;
     bool any = false;
@@ -67,7 +68,9 @@ std::string select_regions(const std::string& text, const std::string& file,
         ++lineNo;
         const std::string where = file + ":" + std::to_string(lineNo);
         for (unsigned char c : line)
-            if (c >= 0x80) throw std::runtime_error(where + ": non-ASCII character (GLSL sources must be ASCII)");
+            if (c >= 0x80)
+                throw std::runtime_error(where +
+                                         ": non-ASCII character (GLSL sources must be ASCII)");
         const std::string t = trim(line);
         if (t.rfind("// @rp-if ", 0) == 0) {
             bool parent = keep.empty() || keep.back();
@@ -79,7 +82,8 @@ std::string select_regions(const std::string& text, const std::string& file,
             keep.pop_back();
             continue;
         }
-        if (t.rfind("// @rp-", 0) == 0) throw std::runtime_error(where + ": unknown marker '" + t + "'");
+        if (t.rfind("// @rp-", 0) == 0)
+            throw std::runtime_error(where + ": unknown marker '" + t + "'");
         if (keep.empty() || keep.back()) out += line + "\n";
     }
     if (!keep.empty()) throw std::runtime_error(file + ": @rp-if without @rp-endif");
@@ -132,7 +136,8 @@ std::string to_glsl(std::string s, const Variant& v) {
     s = std::regex_replace(s, std::regex(R"(\breal\b)"), "float");
     // A fixed mode is a constant wherever it is read (its assignment in rp_prepare stays).
     if (v.era_mode >= 0)
-        s = std::regex_replace(s, std::regex(R"(\bm\.era_mode\b(?!\s*=[^=]))"), kEraConst[v.era_mode]);
+        s = std::regex_replace(s, std::regex(R"(\bm\.era_mode\b(?!\s*=[^=]))"),
+                               kEraConst[v.era_mode]);
     if (v.prism_reflection >= 0)
         s = std::regex_replace(s, std::regex(R"(\bm\.prism_reflection\b(?!\s*=[^=]))"),
                                kPrismConst[v.prism_reflection]);
@@ -147,14 +152,15 @@ std::string entry_point(const Variant& v) {
                 lit(def) + ");\n";
 #define RP_COLOR(name, r, g, b, doc)                                                               \
     sanitize += "    " #name " = vec3(rp_sanitize(" #name ".x, 0.0, 1.0, " + lit(r) +              \
-                "), rp_sanitize(" #name ".y, 0.0, 1.0, " + lit(g) + "), rp_sanitize(" #name        \
-                ".z, 0.0, 1.0, " + lit(b) + "));\n";
+                "), rp_sanitize(" #name ".y, 0.0, 1.0, " + lit(g) +                                \
+                "), rp_sanitize(" #name ".z, 0.0, 1.0, " + lit(b) + "));\n";
 #define RP_ENUM(name, def, values, doc)                                                            \
     {                                                                                              \
         int count = 1;                                                                             \
-        for (const char* c = values; *c; ++c) count += *c == ',';                                 \
-        sanitize += "    if (" #name " < 0 || " #name " > " + std::to_string(count - 1) + ") " #name \
-                    " = " + std::to_string(def) + ";\n";                                           \
+        for (const char* c = values; *c; ++c)                                                      \
+            count += *c == ',';                                                                    \
+        sanitize += "    if (" #name " < 0 || " #name " > " + std::to_string(count - 1) +          \
+                    ") " #name " = " + std::to_string(def) + ";\n";                                \
         ++enumIndex;                                                                               \
     }
 #define RP_VECTOR(name, x, y, z, geomprop, doc)
@@ -168,7 +174,8 @@ std::string entry_point(const Variant& v) {
     if (v.era_mode >= 0) fixed += "    era_mode = " + std::string(kEraConst[v.era_mode]) + ";\n";
     if (v.prism_reflection >= 0)
         fixed += "    prism_reflection = " + std::string(kPrismConst[v.prism_reflection]) + ";\n";
-    return "// The node, evaluated: f (1/sr, without the cosine) per lobe for wi (toward the light)\n"
+    return "// The node, evaluated: f (1/sr, without the cosine) per lobe for wi (toward the "
+           "light)\n"
            "// and wo (toward the viewer), both given in the space of `normal` and `tangent`, and\n"
            "// the pdf of the node's sampling. Inputs are sanitised as in every backend: clamped\n"
            "// into their ranges, NaN replaced by the default.\n"
@@ -186,9 +193,12 @@ std::string entry_point(const Variant& v) {
            "    rp_make_frame(normal, tangent, fN, fT, fB);\n"
            "    vec3 wiLocal;\n"
            "    vec3 woLocal;\n"
-           "    if (!rp_to_local(fN, fT, fB, wi, wiLocal) || !rp_to_local(fN, fT, fB, wo, woLocal)) return;\n"
-           "    rp_material m = rp_prepare(weight, diffuse_color, retro_color, specular, roughness, ior,\n"
-           "                               prism_reflection, metal_reflectance, era_mode, orientation, 0);\n"
+           "    if (!rp_to_local(fN, fT, fB, wi, wiLocal) || !rp_to_local(fN, fT, fB, wo, "
+           "woLocal)) return;\n"
+           "    rp_material m = rp_prepare(weight, diffuse_color, retro_color, specular, "
+           "roughness, ior,\n"
+           "                               prism_reflection, metal_reflectance, era_mode, "
+           "orientation, 0);\n"
            "    rp_lobes lobes;\n"
            "    rp_eval(m, wiLocal, woLocal, lobes, pdf);\n"
            "    surface = lobes.surface;\n"
@@ -205,7 +215,8 @@ std::string Variant::describe() const {
     if (retro) lobes += "retro ";
     if (diffuse) lobes += "diffuse ";
     return "lobes: " + lobes + "| era_mode: " + (era_mode < 0 ? "runtime" : kEraNames[era_mode]) +
-           " | prism_reflection: " + (prism_reflection < 0 ? "runtime" : kPrismNames[prism_reflection]);
+           " | prism_reflection: " +
+           (prism_reflection < 0 ? "runtime" : kPrismNames[prism_reflection]);
 }
 
 std::vector<Variant> standard_variants() {
@@ -229,7 +240,8 @@ std::vector<Variant> standard_variants() {
             Variant v;
             v.era_mode = era;
             v.prism_reflection = prism;
-            v.name = std::string("prismatic_retroreflector_") + kEraNames[era] + "_" + kPrismNames[prism];
+            v.name = std::string("prismatic_retroreflector_") + kEraNames[era] + "_" +
+                     kPrismNames[prism];
             out.push_back(v);
         }
     return out;
@@ -259,7 +271,8 @@ std::string entry_signature() {
 #undef RP_COLOR
 #undef RP_ENUM
 #undef RP_VECTOR
-    return sig + "vec3 wi, vec3 wo, out vec3 surface, out vec3 retro, out vec3 diffuse, out float pdf";
+    return sig +
+           "vec3 wi, vec3 wo, out vec3 surface, out vec3 retro, out vec3 diffuse, out float pdf";
 }
 
 std::string generate_library(const Variant& v, const std::string& sourceDir) {
@@ -268,12 +281,16 @@ std::string generate_library(const Variant& v, const std::string& sourceDir) {
         return to_glsl(select_regions(read_file(sourceDir + "/" + rel), rel, feats), v);
     };
     std::string out;
-    out += "// " + v.name + ".glsl: the prismatic retroreflector node (Guo, Guo & Pan 2018) as GLSL.\n"
-           "// Generated by retroprism_glsl_gen from nodes/prism_core.inc, nodes/prism_special.inc,\n"
-           "// nodes/generated/prism_tables.inc, glsl_gen/prelude.glsl and the parameter table;\n"
-           "// do not edit. Variant: " + v.describe() + ".\n"
-           "// Valid as GLSL 4.x, ESSL 3.00 and Vulkan GLSL (the includer supplies #version and,\n"
-           "// for ESSL, default precision). Entry point: rp_prismatic_retroreflector_eval.\n\n";
+    out +=
+        "// " + v.name +
+        ".glsl: the prismatic retroreflector node (Guo, Guo & Pan 2018) as GLSL.\n"
+        "// Generated by retroprism_glsl_gen from nodes/prism_core.inc, nodes/prism_special.inc,\n"
+        "// nodes/generated/prism_tables.inc, glsl_gen/prelude.glsl and the parameter table;\n"
+        "// do not edit. Variant: " +
+        v.describe() +
+        ".\n"
+        "// Valid as GLSL 4.x, ESSL 3.00 and Vulkan GLSL (the includer supplies #version and,\n"
+        "// for ESSL, default precision). Entry point: rp_prismatic_retroreflector_eval.\n\n";
     out += part("glsl_gen/prelude.glsl") + "\n";
     out += part("nodes/prism_special.inc") + "\n";
     out += "float rp_erfinv(float x) {\n    return rp_erfinv_giles(x);\n}\n\n";
@@ -289,9 +306,15 @@ std::string generate_library(const Variant& v, const std::string& sourceDir) {
 std::string wrap_fragment(const std::string& library, Target target) {
     // The node's inputs as a uniform block (Vulkan GLSL has no loose uniforms).
     std::string block, args;
-#define RP_FLOAT(name, def, lo, hi, doc) block += "    float " #name ";\n"; args += "u." #name ", ";
-#define RP_COLOR(name, r, g, b, doc) block += "    vec4 " #name ";\n"; args += "u." #name ".xyz, ";
-#define RP_ENUM(name, def, values, doc) block += "    int " #name ";\n"; args += "u." #name ", ";
+#define RP_FLOAT(name, def, lo, hi, doc)                                                           \
+    block += "    float " #name ";\n";                                                             \
+    args += "u." #name ", ";
+#define RP_COLOR(name, r, g, b, doc)                                                               \
+    block += "    vec4 " #name ";\n";                                                              \
+    args += "u." #name ".xyz, ";
+#define RP_ENUM(name, def, values, doc)                                                            \
+    block += "    int " #name ";\n";                                                               \
+    args += "u." #name ", ";
 #define RP_VECTOR(name, x, y, z, geomprop, doc)                                                    \
     block += "    vec4 " #name ";\n";                                                              \
     args += "u." #name ".xyz, ";

@@ -27,8 +27,10 @@ int main(int argc, char** argv) {
                 std::stringstream ss;
                 ss << in.rdbuf();
                 if (!in || ss.str() != text) {
-                    std::fprintf(stderr, "%s: differs from what glsl_gen generates (run "
-                                         "retroprism_glsl_gen %s)\n", path.c_str(), root.c_str());
+                    std::fprintf(stderr,
+                                 "%s: differs from what glsl_gen generates (run "
+                                 "retroprism_glsl_gen %s)\n",
+                                 path.c_str(), root.c_str());
                     ++differing;
                 }
             } else {

@@ -11,7 +11,9 @@
 #define RP_OUT(T) T&
 #define RP_IN(T) const T&
 #define RP_TABLE_BEGIN(name, n) inline const real name[n] = {
-#define RP_TABLE_END };
+#define RP_TABLE_END                                                                               \
+    }                                                                                              \
+    ;
 
 #define RP_CORE_PRELUDE                                                                            \
     using std::abs;                                                                                \
@@ -31,9 +33,15 @@
     using glm::min;                                                                                \
     using glm::mix;                                                                                \
     using glm::normalize;                                                                          \
-    inline real rp_erf(real x) { return std::erf(x); }                                             \
-    inline real rp_erfc(real x) { return std::erfc(x); }                                           \
-    inline real rp_fdr_external(real eta) { return real(::retroprism::fdr_external(double(eta))); }
+    inline real rp_erf(real x) {                                                                   \
+        return std::erf(x);                                                                        \
+    }                                                                                              \
+    inline real rp_erfc(real x) {                                                                  \
+        return std::erfc(x);                                                                       \
+    }                                                                                              \
+    inline real rp_fdr_external(real eta) {                                                        \
+        return real(::retroprism::fdr_external(double(eta)));                                      \
+    }
 
 namespace retroprism {
 
@@ -84,9 +92,11 @@ RP_ERFINV_REFINED(2)
 } // namespace f64
 
 // The core of a given precision as one type: core<float> forwards to f32, core<double> to f64.
-template <class Real> struct core;
+template <class Real>
+struct core;
 #define RP_CORE_DISPATCH(REAL, NS)                                                                 \
-    template <> struct core<REAL> {                                                                \
+    template <>                                                                                    \
+    struct core<REAL> {                                                                            \
         using real = REAL;                                                                         \
         using vec2 = NS::vec2;                                                                     \
         using vec3 = NS::vec3;                                                                     \

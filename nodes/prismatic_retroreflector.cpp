@@ -38,7 +38,8 @@ std::vector<std::string> enum_values(const ParamInfo& info) {
     std::vector<std::string> out;
     std::stringstream ss(info.enum_values);
     std::string item;
-    while (std::getline(ss, item, ',')) out.push_back(item);
+    while (std::getline(ss, item, ','))
+        out.push_back(item);
     return out;
 }
 
@@ -61,7 +62,8 @@ Params sanitize(const Params& in) {
     const Params def;
 #define RP_FLOAT(name, d, lo, hi, doc) p.name = clamp_or_default(in.name, lo, hi, def.name);
 #define RP_COLOR(name, r, g, b, doc)                                                               \
-    for (int c = 0; c < 3; ++c) p.name[c] = clamp_or_default(in.name[c], 0.0, 1.0, def.name[c]);
+    for (int c = 0; c < 3; ++c)                                                                    \
+        p.name[c] = clamp_or_default(in.name[c], 0.0, 1.0, def.name[c]);
 #define RP_ENUM(name, d, values, doc)                                                              \
     if (in.name < 0 || in.name >= int(enum_values(*find_param(#name)).size())) p.name = def.name;
 #define RP_VECTOR(name, x, y, z, geomprop, doc)
@@ -91,7 +93,8 @@ double fdr_external(double eta) {
     // 2e-10 relative for eta in [1.01, 3] by tests/test_physics.cpp).
     const double n2 = n * n, n4 = n2 * n2;
     return 0.5 + (n - 1) * (3 * n + 1) / (6 * (n + 1) * (n + 1)) +
-           n2 * (n2 - 1) * (n2 - 1) / ((n2 + 1) * (n2 + 1) * (n2 + 1)) * std::log((n - 1) / (n + 1)) -
+           n2 * (n2 - 1) * (n2 - 1) / ((n2 + 1) * (n2 + 1) * (n2 + 1)) *
+               std::log((n - 1) / (n + 1)) -
            2 * n2 * n * (n2 + 2 * n - 1) / ((n2 + 1) * (n4 - 1)) +
            8 * n4 * (n4 + 1) / ((n2 + 1) * (n4 - 1) * (n4 - 1)) * std::log(n);
 }
@@ -109,7 +112,9 @@ const f64::vec2 kVertex3 = f64::RP_ERA_V3;
 
 } // namespace
 
-double era_averaged_direct(double t) { return f64::rp_retro_fraction_averaged_exact(t, 1.0, false); }
+double era_averaged_direct(double t) {
+    return f64::rp_retro_fraction_averaged_exact(t, 1.0, false);
+}
 
 double retro_fraction_tir_averaged_direct(double t, double eta) {
     f64::rp_material m{};
@@ -130,19 +135,25 @@ double retro_fraction_tir_averaged_direct(double t, double eta) {
 }
 
 f64::rp_material prepare_material(const Params& p) {
-    return f64::rp_prepare(p.weight, f64::vec3(p.diffuse_color[0], p.diffuse_color[1], p.diffuse_color[2]),
-                           f64::vec3(p.retro_color[0], p.retro_color[1], p.retro_color[2]), p.specular,
-                           p.roughness, p.ior, p.prism_reflection, p.metal_reflectance, p.era_mode,
-                           p.orientation, p.retro_anisotropic ? 1 : 0);
+    return f64::rp_prepare(p.weight,
+                           f64::vec3(p.diffuse_color[0], p.diffuse_color[1], p.diffuse_color[2]),
+                           f64::vec3(p.retro_color[0], p.retro_color[1], p.retro_color[2]),
+                           p.specular, p.roughness, p.ior, p.prism_reflection, p.metal_reflectance,
+                           p.era_mode, p.orientation, p.retro_anisotropic ? 1 : 0);
 }
 
 namespace {
 
-template <class Real> typename core<Real>::material round_material(const f64::rp_material& m);
+template <class Real>
+typename core<Real>::material round_material(const f64::rp_material& m);
 
-template <> f64::rp_material round_material<double>(const f64::rp_material& m) { return m; }
+template <>
+f64::rp_material round_material<double>(const f64::rp_material& m) {
+    return m;
+}
 
-template <> f32::rp_material round_material<float>(const f64::rp_material& m) {
+template <>
+f32::rp_material round_material<float>(const f64::rp_material& m) {
     f32::rp_material r{};
     r.weight = float(m.weight);
     r.specular = float(m.specular);
@@ -162,7 +173,8 @@ template <> f32::rp_material round_material<float>(const f64::rp_material& m) {
     return r;
 }
 
-template <class V> V from_array(const Vec3d& a) {
+template <class V>
+V from_array(const Vec3d& a) {
     using R = typename V::value_type;
     return V(R(a[0]), R(a[1]), R(a[2]));
 }
@@ -251,9 +263,9 @@ PrismaticRetroreflector<Real>::albedo(const vec3& wiWorld, int grid) const {
     out.diffuse = m_.diffuse_albedo * (m_.weight * s.transI * (Real(1) - s.era));
     // Surface and retro: E[f_k cos_o / pdf_k] over each lobe's sampling map, on a midpoint grid
     // (the map covers the lobe's whole mass; directions below the horizon contribute 0).
-    const bool lobeOn[2] = {m_.specular > 0, s.era > 0 && (m_.retro_color.x > 0 ||
-                                                           m_.retro_color.y > 0 ||
-                                                           m_.retro_color.z > 0)};
+    const bool lobeOn[2] = {
+        m_.specular > 0,
+        s.era > 0 && (m_.retro_color.x > 0 || m_.retro_color.y > 0 || m_.retro_color.z > 0)};
     for (int lobe = 0; lobe < 2; ++lobe) {
         if (!lobeOn[lobe]) continue;
         double sum[3] = {0, 0, 0};
@@ -268,7 +280,8 @@ PrismaticRetroreflector<Real>::albedo(const vec3& wiWorld, int grid) const {
                 typename core<Real>::lobes r;
                 core<Real>::eval_lobes(m_, s, wi, wo, r);
                 vec3 f = lobe == 0 ? r.surface : r.retro;
-                for (int c = 0; c < 3; ++c) sum[c] += double(f[c] * wo.z / pdf);
+                for (int c = 0; c < 3; ++c)
+                    sum[c] += double(f[c] * wo.z / pdf);
             }
         }
         vec3 a = vec3(Real(sum[0]), Real(sum[1]), Real(sum[2]));

@@ -88,7 +88,8 @@ double era_averaged_direct(double tanThetaT);
 // 2e6 azimuths over one period (slow, ~0.1 s; an independent reference for tests).
 double retro_fraction_tir_averaged_direct(double tanThetaT, double eta);
 
-template <class Real> class PrismaticRetroreflector {
+template <class Real>
+class PrismaticRetroreflector {
   public:
     using real = Real;
     using vec3 = typename core<Real>::vec3;

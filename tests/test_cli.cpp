@@ -39,7 +39,8 @@ Run run(const std::string& args, const std::string& stdinText = "") {
     REQUIRE(p);
     char buf[4096];
     size_t n;
-    while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
+    while ((n = fread(buf, 1, sizeof buf, p)) > 0)
+        r.output.append(buf, n);
     int st = pclose(p);
     r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
     return r;
@@ -78,7 +79,8 @@ TEST_CASE("eval answers the library's values, per backend", "[cli]") {
         json direct = answer_query(q, backend);
         CHECK(answer == direct);
         for (const json& res : answer["results"])
-            for (const char* key : {"f", "surface", "retro", "diffuse"}) CHECK(res[key].size() == 3);
+            for (const char* key : {"f", "surface", "retro", "diffuse"})
+                CHECK(res[key].size() == 3);
     }
     // The same query on standard input; degrees and vectors describe the same directions.
     Run r = run("eval -", query);
@@ -132,9 +134,10 @@ TEST_CASE("Bad queries and materials are rejected, naming what is wrong", "[cli]
     Run missing = run("eval /nonexistent/query.json");
     CHECK(missing.status != 0);
     CHECK(contains(missing.output, "/nonexistent/query.json: cannot open file"));
-    Run backend = run("eval --backend vulkan " + write_temp("ok.json", R"({"samples": []})").string());
+    Run backend =
+        run("eval --backend vulkan " + write_temp("ok.json", R"({"samples": []})").string());
     CHECK(backend.status != 0);
-    CHECK(contains(backend.output, "unknown backend (backends: cpp-double, cpp-float)"));
+    CHECK(contains(backend.output, "unknown backend (backends: cpp-double, cpp-float, glsl)"));
 }
 
 TEST_CASE("era and albedo commands", "[cli]") {
@@ -147,9 +150,9 @@ TEST_CASE("era and albedo commands", "[cli]") {
     const double t = 20 * M_PI / 180, p = 30 * M_PI / 180;
     char expect[64];
     std::snprintf(expect, sizeof expect, "ERA %.9f",
-                  f64::rp_era_oriented(f64::vec3(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p),
-                                                 -std::cos(t)),
-                                       f64::RP_ERA_V1, f64::RP_ERA_V2, f64::RP_ERA_V3));
+                  f64::rp_era_oriented(
+                      f64::vec3(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), -std::cos(t)),
+                      f64::RP_ERA_V1, f64::RP_ERA_V2, f64::RP_ERA_V3));
     CHECK(contains(oriented.output, expect));
     CHECK(run("era").status != 0);
     Run badMode = run("era --theta-t 10 --mode tilted");
@@ -198,7 +201,8 @@ TEST_CASE("demo writes every material's plots, or nothing on a bad material", "[
     CHECK(contains(bad.output, "bad.json.roughness = 1.5 is outside its range [0, 1]"));
     bool anyFile = false;
     if (fs::exists(out2))
-        for (const auto& e : fs::directory_iterator(out2)) anyFile = anyFile || e.is_regular_file();
+        for (const auto& e : fs::directory_iterator(out2))
+            anyFile = anyFile || e.is_regular_file();
     CHECK_FALSE(anyFile);
 }
 

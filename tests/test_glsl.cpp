@@ -33,7 +33,8 @@ int run_status(const std::string& cmd, std::string* output = nullptr) {
     char buf[4096];
     size_t n;
     std::string out;
-    while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
+    while ((n = fread(buf, 1, sizeof buf, p)) > 0)
+        out.append(buf, n);
     int st = pclose(p);
     if (output) *output = out;
     return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
@@ -44,12 +45,13 @@ int run_status(const std::string& cmd, std::string* output = nullptr) {
 TEST_CASE("The checked-in GLSL is what glsl_gen generates", "[glsl]") {
     for (const glsl::Variant& v : glsl::standard_variants()) {
         INFO(v.name);
-        const fs::path file = fs::path(RP_SOURCE_DIR) / "glsl_gen" / "generated" / (v.name + ".glsl");
+        const fs::path file =
+            fs::path(RP_SOURCE_DIR) / "glsl_gen" / "generated" / (v.name + ".glsl");
         CHECK(read(file) == glsl::generate_library(v, RP_SOURCE_DIR));
     }
     // The binary's embedded copy is the full variant.
-    CHECK(gl::embedded_library() ==
-          read(fs::path(RP_SOURCE_DIR) / "glsl_gen" / "generated" / "prismatic_retroreflector.glsl"));
+    CHECK(gl::embedded_library() == read(fs::path(RP_SOURCE_DIR) / "glsl_gen" / "generated" /
+                                         "prismatic_retroreflector.glsl"));
 }
 
 TEST_CASE("Specialised variants leave out the code they do not use", "[glsl]") {
@@ -58,7 +60,8 @@ TEST_CASE("Specialised variants leave out the code they do not use", "[glsl]") {
         // The code alone: comments may name what the code leaves out.
         std::stringstream in(glsl::generate_library(v, RP_SOURCE_DIR));
         std::string text, line;
-        while (std::getline(in, line)) text += line.substr(0, line.find("//")) + "\n";
+        while (std::getline(in, line))
+            text += line.substr(0, line.find("//")) + "\n";
         auto has = [&](const char* s) { return text.find(s) != std::string::npos; };
         CHECK(has("rp_beckmann_sample_visible") == v.surface);
         CHECK(has("rp_retro_density") == v.retro);
@@ -92,7 +95,8 @@ TEST_CASE("Every variant compiles as GLSL 4.50, ESSL 3.00 and Vulkan GLSL", "[gl
             const fs::path f = dir / (v.name + "_" + t.suffix + ".frag");
             std::ofstream(f) << glsl::wrap_fragment(lib, t.target);
             std::string out;
-            int st = run_status(std::string("glslangValidator ") + t.flags + " " + f.string(), &out);
+            int st =
+                run_status(std::string("glslangValidator ") + t.flags + " " + f.string(), &out);
             INFO(v.name << " as " << t.suffix << ":\n" << out);
             CHECK(st == 0);
             compiled += st == 0;
@@ -118,7 +122,8 @@ TEST_CASE("Each specialised variant computes what the C++ reference computes", "
             if (v.era_mode >= 0) q.material.era_mode = v.era_mode;
             if (v.prism_reflection >= 0) q.material.prism_reflection = v.prism_reflection;
             std::vector<std::array<Vec3d, 2>> pairs;
-            for (const DirectionPair& s : q.samples) pairs.push_back({s.wi, s.wo});
+            for (const DirectionPair& s : q.samples)
+                pairs.push_back({s.wi, s.wo});
             const std::vector<gl::Result> got = runner.evaluate(q.material, pairs);
             const nlohmann::json ref = answer_query(q, "cpp-double")["results"];
             const bool on[3] = {v.surface, v.retro, v.diffuse};
@@ -126,9 +131,11 @@ TEST_CASE("Each specialised variant computes what the C++ reference computes", "
             double peak[3] = {0, 0, 0};
             for (const auto& r : ref)
                 for (int k = 0; k < 3; ++k)
-                    for (int c = 0; c < 3; ++c) peak[k] = std::max(peak[k], r[keys[k]][c].get<double>());
+                    for (int c = 0; c < 3; ++c)
+                        peak[k] = std::max(peak[k], r[keys[k]][c].get<double>());
             for (size_t i = 0; i < got.size(); ++i) {
-                const std::array<float, 3>* lobes[3] = {&got[i].surface, &got[i].retro, &got[i].diffuse};
+                const std::array<float, 3>* lobes[3] = {&got[i].surface, &got[i].retro,
+                                                        &got[i].diffuse};
                 double sampleWorst = 0;
                 for (int k = 0; k < 3; ++k)
                     for (int c = 0; c < 3; ++c) {
@@ -140,7 +147,8 @@ TEST_CASE("Each specialised variant computes what the C++ reference computes", "
                             continue;
                         }
                         const double r = ref[i][keys[k]][c].get<double>();
-                        const double scale = std::max(std::abs(r), contract.floor_fraction * peak[k]);
+                        const double scale =
+                            std::max(std::abs(r), contract.floor_fraction * peak[k]);
                         const double err = x == r ? 0.0 : std::abs(x - r) / scale;
                         sampleWorst = std::max(sampleWorst, std::isfinite(err) ? err : INFINITY);
                     }
@@ -170,8 +178,8 @@ TEST_CASE("No EGL, a clear error", "[glsl]") {
     std::ofstream(fs::temp_directory_path() / "retroprism_glsl_q.json")
         << R"({"samples": [{"wi": [0, 0, 1], "wo": [0, 0, 1]}]})";
     std::string out;
-    int st = run_status("__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent.json " + std::string(RP_CLI_PATH) +
-                            " eval --backend glsl " +
+    int st = run_status("__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent.json " +
+                            std::string(RP_CLI_PATH) + " eval --backend glsl " +
                             (fs::temp_directory_path() / "retroprism_glsl_q.json").string(),
                         &out);
     CHECK(st != 0);

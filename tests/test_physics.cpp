@@ -1060,7 +1060,8 @@ TEST_CASE("F_dr table of the float backends is within 1e-6 of the exact value", 
     double worst = 0.0, worstEta = 0.0, worstFloat = 0.0;
     for (int i = 0; i <= 200000; ++i) {
         const double eta = 1.0 + 2.0 * i / 200000.0;
-        const double err = std::abs(retroprism::f64::rp_fdr_external_table(eta) - retroprism::fdr_external(eta));
+        const double err =
+            std::abs(retroprism::f64::rp_fdr_external_table(eta) - retroprism::fdr_external(eta));
         if (err > worst) {
             worst = err;
             worstEta = eta;

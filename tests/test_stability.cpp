@@ -25,18 +25,23 @@ dvec3 dir_cos(double cosTheta, double phiDeg) {
     return dvec3(s * std::cos(p), s * std::sin(p), c);
 }
 
-dvec3 mirror(const dvec3& w) { return dvec3(-w.x, -w.y, w.z); }
+dvec3 mirror(const dvec3& w) {
+    return dvec3(-w.x, -w.y, w.z);
+}
 
 // The same direction as float, and that float direction promoted back to double, so that
 // both nodes see identical inputs.
-glm::vec3 to_float(const dvec3& w) { return glm::vec3(w); }
+glm::vec3 to_float(const dvec3& w) {
+    return glm::vec3(w);
+}
 
 // The extreme directions of the sweep for one incident direction wi: itself, its mirror, the
 // normal, grazing and below-horizon ones, and a ring around wi and the mirror direction.
 std::vector<dvec3> outgoing_set(const dvec3& wi) {
     std::vector<dvec3> out = {wi, mirror(wi), dvec3(0, 0, 1)};
     for (double c : {1.0, 1e-7, 0.0, -1e-7, 1e-3, 0.5})
-        for (double phi : {0.0, 90.0, 180.0}) out.push_back(dir_cos(c, phi));
+        for (double phi : {0.0, 90.0, 180.0})
+            out.push_back(dir_cos(c, phi));
     for (double offset : {1e-6, 1e-4, 1e-3, 1e-2, 0.1})
         for (double phi : {0.0, 120.0, 240.0}) {
             dvec3 d(offset * std::cos(phi * M_PI / 180), offset * std::sin(phi * M_PI / 180), 0);
@@ -49,13 +54,17 @@ std::vector<dvec3> outgoing_set(const dvec3& wi) {
 std::vector<dvec3> incident_set() {
     std::vector<dvec3> out;
     for (double c : {1.0, 0.9, 0.5, 0.1, 1e-3, 1e-7, 0.0, -1e-7})
-        for (double phi : {0.0, 45.0}) out.push_back(dir_cos(c, phi));
+        for (double phi : {0.0, 45.0})
+            out.push_back(dir_cos(c, phi));
     return out;
 }
 
-bool ok_value(double v) { return std::isfinite(v) && v >= 0.0; }
+bool ok_value(double v) {
+    return std::isfinite(v) && v >= 0.0;
+}
 
-template <class V> bool ok_rgb(const V& v) {
+template <class V>
+bool ok_rgb(const V& v) {
     return ok_value(double(v.x)) && ok_value(double(v.y)) && ok_value(double(v.z));
 }
 
@@ -300,7 +309,8 @@ TEST_CASE("float agrees with double to 1e-4 above 1e-6 of each lobe's peak", "[s
                             wos.push_back(to_float(glm::normalize(mirror(wi) + d)));
                         }
                         for (double t : {0.0, 20.0, 45.0, 70.0, 85.0, 89.9})
-                            for (double phi : {0.0, 100.0, 190.0}) wos.push_back(to_float(dir_deg(t, phi)));
+                            for (double phi : {0.0, 100.0, 190.0})
+                                wos.push_back(to_float(dir_deg(t, phi)));
                         for (const glm::vec3& woF : wos) {
                             const dvec3 wo(woF);
                             auto ed = nd.eval(wi, wo);

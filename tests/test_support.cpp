@@ -17,7 +17,9 @@ std::uint64_t Rng::next_u64() {
     return z ^ (z >> 31);
 }
 
-double Rng::uniform() { return double(next_u64() >> 11) * 0x1.0p-53; }
+double Rng::uniform() {
+    return double(next_u64() >> 11) * 0x1.0p-53;
+}
 
 namespace {
 
@@ -59,7 +61,9 @@ double chi2_sf(double x, double dof) {
     return hx < a + 1.0 ? 1.0 - gamma_p_series(a, hx) : gamma_q_fraction(a, hx);
 }
 
-double sidak(double alpha, int tests) { return 1.0 - std::pow(1.0 - alpha, 1.0 / tests); }
+double sidak(double alpha, int tests) {
+    return 1.0 - std::pow(1.0 - alpha, 1.0 / tests);
+}
 
 std::vector<Corner> parameter_corners() {
     std::vector<Corner> out;
@@ -75,11 +79,10 @@ std::vector<Corner> parameter_corners() {
                     p.orientation = 17.0;
                     p.diffuse_color = {1.0, 1.0, 1.0};
                     p.retro_color = {1.0, 1.0, 1.0};
-                    out.push_back({"roughness=" + std::to_string(roughness) +
-                                       " ior=" + std::to_string(ior) +
-                                       " prism=" + std::to_string(prism) +
-                                       " era=" + std::to_string(era),
-                                   p});
+                    out.push_back(
+                        {"roughness=" + std::to_string(roughness) + " ior=" + std::to_string(ior) +
+                             " prism=" + std::to_string(prism) + " era=" + std::to_string(era),
+                         p});
                 }
     return out;
 }

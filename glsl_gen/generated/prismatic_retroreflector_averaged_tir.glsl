@@ -1309,7 +1309,8 @@ vec2 rp_beckmann_visible_slope(float cosTheta, float u1, float u2) {
     float cotTheta = float(1.0) / tanTheta;
     float lo = float(-1.0);
     float hi = rp_erf(cotTheta);
-    float norm = float(1.0) / (float(1.0) + hi + RP_INV_SQRT_PI * tanTheta * exp(-cotTheta * cotTheta));
+    float norm =
+        float(1.0) / (float(1.0) + hi + RP_INV_SQRT_PI * tanTheta * exp(-cotTheta * cotTheta));
     // Initial guess from Jakob's fit of the inverse in theta.
     float theta = acos(clamp(cosTheta, float(-1.0), float(1.0)));
     float fit = float(1.0) + theta * (float(-0.876) + theta * (float(0.4265) - float(0.0594) * theta));
@@ -1409,16 +1410,15 @@ float rp_era_averaged(float tanThetaT) {
 // Gauss-Legendre rule of 8 points on [0, 1] (the 8-point rule of [-1, 1], halved).
 const float rp_gl8_x[8] = float[8](
 0.0198550718, 0.101666761, 0.237233795, 0.408282679,
-0.591717321, 0.762766205, 0.898333239, 0.980144928
-);
-const float rp_gl8_w[8] = float[8](
-0.0506142681, 0.111190517, 0.156853323, 0.181341892,
-0.181341892, 0.156853323, 0.111190517, 0.0506142681
-);
+0.591717321, 0.762766205, 0.898333239,
+    0.98014492824876814 ); const float rp_gl8_w[8] = float[8]( 0.050614268145188130,
+0.111190517, 0.156853323, 0.181341892, 0.181341892,
+0.156853323, 0.111190517,
+    0.050614268145188130 );
 
-// Most azimuths at which the integrand of the TIR average can change form in [0, pi/3]:
-// 3 faces x 4 critical cosines x 2 signs, plus the two ends.
-const int RP_TIR_MAX_BREAKS = 26;
+    // Most azimuths at which the integrand of the TIR average can change form in [0, pi/3]:
+    // 3 faces x 4 critical cosines x 2 signs, plus the two ends.
+    const int RP_TIR_MAX_BREAKS = 26;
 // Gauss-Legendre sub-pieces per piece: 4 bring the worst error (eta in [1.05, 3], all theta_t)
 // from 1.1e-5 with one to 5.6e-7 (tests/test_physics.cpp).
 const int RP_TIR_SUBPIECES = 4;
@@ -1506,7 +1506,8 @@ float rp_retro_fraction_averaged_exact(float tanThetaT, float eta, bool tir) {
 float rp_retro_fraction(in rp_material m, vec3 d) {
     if (RP_ERA_AVERAGED == RP_ERA_AVERAGED) {
         float tanThetaT = sqrt(d.x * d.x + d.y * d.y) / max(abs(d.z), RP_MIN_COS);
-        if (RP_PRISM_TIR == RP_PRISM_TIR) return rp_retro_fraction_averaged_exact(tanThetaT, m.eta, true);
+        if (RP_PRISM_TIR == RP_PRISM_TIR)
+            return rp_retro_fraction_averaged_exact(tanThetaT, m.eta, true);
         float a = rp_era_averaged(tanThetaT);
         return a;
     }
@@ -1584,7 +1585,8 @@ float rp_sanitize(float v, float lo, float hi, float def) {
 void rp_make_frame(vec3 normal, vec3 tangent, out vec3 fN, out vec3 fT,
                          out vec3 fB) {
     float ln2 = dot(normal, normal);
-    fN = (ln2 > float(0.0) && ln2 < RP_HUGE) ? normal / sqrt(ln2) : vec3(float(0.0), float(0.0), float(1.0));
+    fN = (ln2 > float(0.0) && ln2 < RP_HUGE) ? normal / sqrt(ln2)
+                                            : vec3(float(0.0), float(0.0), float(1.0));
     vec3 tp = tangent - dot(tangent, fN) * fN;
     float lt2 = dot(tp, tp);
     if (lt2 > float(1e-12) && lt2 < RP_HUGE) {
@@ -1658,14 +1660,16 @@ void rp_incident_setup(in rp_material m, vec3 wi, out rp_incident s) {
     // Lobe frame about wi: ePerp = normalize(n x wi); at normal incidence any frame will do,
     // the tangent's is used.
     float rxy = sqrt(wi.x * wi.x + wi.y * wi.y);
-    s.ePerp = rxy > float(0.0) ? vec3(-wi.y / rxy, wi.x / rxy, float(0.0)) : vec3(float(0.0), float(1.0), float(0.0));
+    s.ePerp = rxy > float(0.0) ? vec3(-wi.y / rxy, wi.x / rxy, float(0.0))
+                              : vec3(float(0.0), float(1.0), float(0.0));
     s.ePar = cross(s.ePerp, wi);
 
     // Joint spherical warping of the two rough crossings (MODEL.md section 3):
     // alpha_o^2 = 2 alpha^2 (eta cos_t - cos_i)^2 / cos_i; anisotropic split
-    // alpha_par = sqrt2 alpha |eta cos_t - cos_i| / cos_i, alpha_perp = sqrt2 alpha |eta cos_t - cos_i|.
-    // eta cos_t - cos_i = (eta^2 - 1) / (eta cos_t + cos_i): no cancellation near eta = 1.
-    float etaCosTMinusCosI = (m.eta - float(1.0)) * (m.eta + float(1.0)) / (m.eta * cosThetaT + max(cosThetaI, float(0.0)));
+    // alpha_par = sqrt2 alpha |eta cos_t - cos_i| / cos_i, alpha_perp = sqrt2 alpha |eta cos_t -
+    // cos_i|. eta cos_t - cos_i = (eta^2 - 1) / (eta cos_t + cos_i): no cancellation near eta = 1.
+    float etaCosTMinusCosI =
+        (m.eta - float(1.0)) * (m.eta + float(1.0)) / (m.eta * cosThetaT + max(cosThetaI, float(0.0)));
     float spread = RP_SQRT2 * m.alpha * etaCosTMinusCosI;
     float cosI = max(cosThetaI, RP_MIN_COS);
     if (m.retro_anisotropic != 0) {

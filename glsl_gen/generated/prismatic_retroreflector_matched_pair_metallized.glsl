@@ -793,7 +793,8 @@ vec2 rp_beckmann_visible_slope(float cosTheta, float u1, float u2) {
     float cotTheta = float(1.0) / tanTheta;
     float lo = float(-1.0);
     float hi = rp_erf(cotTheta);
-    float norm = float(1.0) / (float(1.0) + hi + RP_INV_SQRT_PI * tanTheta * exp(-cotTheta * cotTheta));
+    float norm =
+        float(1.0) / (float(1.0) + hi + RP_INV_SQRT_PI * tanTheta * exp(-cotTheta * cotTheta));
     // Initial guess from Jakob's fit of the inverse in theta.
     float theta = acos(clamp(cosTheta, float(-1.0), float(1.0)));
     float fit = float(1.0) + theta * (float(-0.876) + theta * (float(0.4265) - float(0.0594) * theta));
@@ -886,7 +887,8 @@ float rp_retro_fraction_oriented(in rp_material m, vec3 d) {
 float rp_retro_fraction(in rp_material m, vec3 d) {
     if (RP_ERA_MATCHED_PAIR == RP_ERA_MATCHED_PAIR) {
         vec3 dPair = vec3(-d.x, -d.y, d.z);
-        return float(0.5) * (rp_retro_fraction_oriented(m, d) + rp_retro_fraction_oriented(m, dPair));
+        return float(0.5) *
+               (rp_retro_fraction_oriented(m, d) + rp_retro_fraction_oriented(m, dPair));
     }
     return float(0.0);
 }
@@ -962,7 +964,8 @@ float rp_sanitize(float v, float lo, float hi, float def) {
 void rp_make_frame(vec3 normal, vec3 tangent, out vec3 fN, out vec3 fT,
                          out vec3 fB) {
     float ln2 = dot(normal, normal);
-    fN = (ln2 > float(0.0) && ln2 < RP_HUGE) ? normal / sqrt(ln2) : vec3(float(0.0), float(0.0), float(1.0));
+    fN = (ln2 > float(0.0) && ln2 < RP_HUGE) ? normal / sqrt(ln2)
+                                            : vec3(float(0.0), float(0.0), float(1.0));
     vec3 tp = tangent - dot(tangent, fN) * fN;
     float lt2 = dot(tp, tp);
     if (lt2 > float(1e-12) && lt2 < RP_HUGE) {
@@ -1036,14 +1039,16 @@ void rp_incident_setup(in rp_material m, vec3 wi, out rp_incident s) {
     // Lobe frame about wi: ePerp = normalize(n x wi); at normal incidence any frame will do,
     // the tangent's is used.
     float rxy = sqrt(wi.x * wi.x + wi.y * wi.y);
-    s.ePerp = rxy > float(0.0) ? vec3(-wi.y / rxy, wi.x / rxy, float(0.0)) : vec3(float(0.0), float(1.0), float(0.0));
+    s.ePerp = rxy > float(0.0) ? vec3(-wi.y / rxy, wi.x / rxy, float(0.0))
+                              : vec3(float(0.0), float(1.0), float(0.0));
     s.ePar = cross(s.ePerp, wi);
 
     // Joint spherical warping of the two rough crossings (MODEL.md section 3):
     // alpha_o^2 = 2 alpha^2 (eta cos_t - cos_i)^2 / cos_i; anisotropic split
-    // alpha_par = sqrt2 alpha |eta cos_t - cos_i| / cos_i, alpha_perp = sqrt2 alpha |eta cos_t - cos_i|.
-    // eta cos_t - cos_i = (eta^2 - 1) / (eta cos_t + cos_i): no cancellation near eta = 1.
-    float etaCosTMinusCosI = (m.eta - float(1.0)) * (m.eta + float(1.0)) / (m.eta * cosThetaT + max(cosThetaI, float(0.0)));
+    // alpha_par = sqrt2 alpha |eta cos_t - cos_i| / cos_i, alpha_perp = sqrt2 alpha |eta cos_t -
+    // cos_i|. eta cos_t - cos_i = (eta^2 - 1) / (eta cos_t + cos_i): no cancellation near eta = 1.
+    float etaCosTMinusCosI =
+        (m.eta - float(1.0)) * (m.eta + float(1.0)) / (m.eta * cosThetaT + max(cosThetaI, float(0.0)));
     float spread = RP_SQRT2 * m.alpha * etaCosTMinusCosI;
     float cosI = max(cosThetaI, RP_MIN_COS);
     if (m.retro_anisotropic != 0) {

@@ -1366,16 +1366,15 @@ float rp_era_averaged(float tanThetaT) {
 // Gauss-Legendre rule of 8 points on [0, 1] (the 8-point rule of [-1, 1], halved).
 const float rp_gl8_x[8] = float[8](
 0.0198550718, 0.101666761, 0.237233795, 0.408282679,
-0.591717321, 0.762766205, 0.898333239, 0.980144928
-);
-const float rp_gl8_w[8] = float[8](
-0.0506142681, 0.111190517, 0.156853323, 0.181341892,
-0.181341892, 0.156853323, 0.111190517, 0.0506142681
-);
+0.591717321, 0.762766205, 0.898333239,
+    0.98014492824876814 ); const float rp_gl8_w[8] = float[8]( 0.050614268145188130,
+0.111190517, 0.156853323, 0.181341892, 0.181341892,
+0.156853323, 0.111190517,
+    0.050614268145188130 );
 
-// Most azimuths at which the integrand of the TIR average can change form in [0, pi/3]:
-// 3 faces x 4 critical cosines x 2 signs, plus the two ends.
-const int RP_TIR_MAX_BREAKS = 26;
+    // Most azimuths at which the integrand of the TIR average can change form in [0, pi/3]:
+    // 3 faces x 4 critical cosines x 2 signs, plus the two ends.
+    const int RP_TIR_MAX_BREAKS = 26;
 // Gauss-Legendre sub-pieces per piece: 4 bring the worst error (eta in [1.05, 3], all theta_t)
 // from 1.1e-5 with one to 5.6e-7 (tests/test_physics.cpp).
 const int RP_TIR_SUBPIECES = 4;
@@ -1464,11 +1463,13 @@ float rp_retro_fraction(in rp_material m, vec3 d) {
     if (m.era_mode == RP_ERA_ORIENTED) return rp_retro_fraction_oriented(m, d);
     if (m.era_mode == RP_ERA_MATCHED_PAIR) {
         vec3 dPair = vec3(-d.x, -d.y, d.z);
-        return float(0.5) * (rp_retro_fraction_oriented(m, d) + rp_retro_fraction_oriented(m, dPair));
+        return float(0.5) *
+               (rp_retro_fraction_oriented(m, d) + rp_retro_fraction_oriented(m, dPair));
     }
     if (m.era_mode == RP_ERA_AVERAGED) {
         float tanThetaT = sqrt(d.x * d.x + d.y * d.y) / max(abs(d.z), RP_MIN_COS);
-        if (m.prism_reflection == RP_PRISM_TIR) return rp_retro_fraction_averaged_exact(tanThetaT, m.eta, true);
+        if (m.prism_reflection == RP_PRISM_TIR)
+            return rp_retro_fraction_averaged_exact(tanThetaT, m.eta, true);
         float a = rp_era_averaged(tanThetaT);
         if (m.prism_reflection == RP_PRISM_METALLIZED) a *= m.metal_r3;
         return a;
@@ -1547,7 +1548,8 @@ float rp_sanitize(float v, float lo, float hi, float def) {
 void rp_make_frame(vec3 normal, vec3 tangent, out vec3 fN, out vec3 fT,
                          out vec3 fB) {
     float ln2 = dot(normal, normal);
-    fN = (ln2 > float(0.0) && ln2 < RP_HUGE) ? normal / sqrt(ln2) : vec3(float(0.0), float(0.0), float(1.0));
+    fN = (ln2 > float(0.0) && ln2 < RP_HUGE) ? normal / sqrt(ln2)
+                                            : vec3(float(0.0), float(0.0), float(1.0));
     vec3 tp = tangent - dot(tangent, fN) * fN;
     float lt2 = dot(tp, tp);
     if (lt2 > float(1e-12) && lt2 < RP_HUGE) {
@@ -1621,14 +1623,16 @@ void rp_incident_setup(in rp_material m, vec3 wi, out rp_incident s) {
     // Lobe frame about wi: ePerp = normalize(n x wi); at normal incidence any frame will do,
     // the tangent's is used.
     float rxy = sqrt(wi.x * wi.x + wi.y * wi.y);
-    s.ePerp = rxy > float(0.0) ? vec3(-wi.y / rxy, wi.x / rxy, float(0.0)) : vec3(float(0.0), float(1.0), float(0.0));
+    s.ePerp = rxy > float(0.0) ? vec3(-wi.y / rxy, wi.x / rxy, float(0.0))
+                              : vec3(float(0.0), float(1.0), float(0.0));
     s.ePar = cross(s.ePerp, wi);
 
     // Joint spherical warping of the two rough crossings (MODEL.md section 3):
     // alpha_o^2 = 2 alpha^2 (eta cos_t - cos_i)^2 / cos_i; anisotropic split
-    // alpha_par = sqrt2 alpha |eta cos_t - cos_i| / cos_i, alpha_perp = sqrt2 alpha |eta cos_t - cos_i|.
-    // eta cos_t - cos_i = (eta^2 - 1) / (eta cos_t + cos_i): no cancellation near eta = 1.
-    float etaCosTMinusCosI = (m.eta - float(1.0)) * (m.eta + float(1.0)) / (m.eta * cosThetaT + max(cosThetaI, float(0.0)));
+    // alpha_par = sqrt2 alpha |eta cos_t - cos_i| / cos_i, alpha_perp = sqrt2 alpha |eta cos_t -
+    // cos_i|. eta cos_t - cos_i = (eta^2 - 1) / (eta cos_t + cos_i): no cancellation near eta = 1.
+    float etaCosTMinusCosI =
+        (m.eta - float(1.0)) * (m.eta + float(1.0)) / (m.eta * cosThetaT + max(cosThetaI, float(0.0)));
     float spread = RP_SQRT2 * m.alpha * etaCosTMinusCosI;
     float cosI = max(cosThetaI, RP_MIN_COS);
     if (m.retro_anisotropic != 0) {

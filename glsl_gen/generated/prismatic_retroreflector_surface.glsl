@@ -790,7 +790,8 @@ vec2 rp_beckmann_visible_slope(float cosTheta, float u1, float u2) {
     float cotTheta = float(1.0) / tanTheta;
     float lo = float(-1.0);
     float hi = rp_erf(cotTheta);
-    float norm = float(1.0) / (float(1.0) + hi + RP_INV_SQRT_PI * tanTheta * exp(-cotTheta * cotTheta));
+    float norm =
+        float(1.0) / (float(1.0) + hi + RP_INV_SQRT_PI * tanTheta * exp(-cotTheta * cotTheta));
     // Initial guess from Jakob's fit of the inverse in theta.
     float theta = acos(clamp(cosTheta, float(-1.0), float(1.0)));
     float fit = float(1.0) + theta * (float(-0.876) + theta * (float(0.4265) - float(0.0594) * theta));
@@ -901,16 +902,15 @@ float rp_era_averaged(float tanThetaT) {
 // Gauss-Legendre rule of 8 points on [0, 1] (the 8-point rule of [-1, 1], halved).
 const float rp_gl8_x[8] = float[8](
 0.0198550718, 0.101666761, 0.237233795, 0.408282679,
-0.591717321, 0.762766205, 0.898333239, 0.980144928
-);
-const float rp_gl8_w[8] = float[8](
-0.0506142681, 0.111190517, 0.156853323, 0.181341892,
-0.181341892, 0.156853323, 0.111190517, 0.0506142681
-);
+0.591717321, 0.762766205, 0.898333239,
+    0.98014492824876814 ); const float rp_gl8_w[8] = float[8]( 0.050614268145188130,
+0.111190517, 0.156853323, 0.181341892, 0.181341892,
+0.156853323, 0.111190517,
+    0.050614268145188130 );
 
-// Most azimuths at which the integrand of the TIR average can change form in [0, pi/3]:
-// 3 faces x 4 critical cosines x 2 signs, plus the two ends.
-const int RP_TIR_MAX_BREAKS = 26;
+    // Most azimuths at which the integrand of the TIR average can change form in [0, pi/3]:
+    // 3 faces x 4 critical cosines x 2 signs, plus the two ends.
+    const int RP_TIR_MAX_BREAKS = 26;
 // Gauss-Legendre sub-pieces per piece: 4 bring the worst error (eta in [1.05, 3], all theta_t)
 // from 1.1e-5 with one to 5.6e-7 (tests/test_physics.cpp).
 const int RP_TIR_SUBPIECES = 4;
@@ -1049,7 +1049,8 @@ float rp_sanitize(float v, float lo, float hi, float def) {
 void rp_make_frame(vec3 normal, vec3 tangent, out vec3 fN, out vec3 fT,
                          out vec3 fB) {
     float ln2 = dot(normal, normal);
-    fN = (ln2 > float(0.0) && ln2 < RP_HUGE) ? normal / sqrt(ln2) : vec3(float(0.0), float(0.0), float(1.0));
+    fN = (ln2 > float(0.0) && ln2 < RP_HUGE) ? normal / sqrt(ln2)
+                                            : vec3(float(0.0), float(0.0), float(1.0));
     vec3 tp = tangent - dot(tangent, fN) * fN;
     float lt2 = dot(tp, tp);
     if (lt2 > float(1e-12) && lt2 < RP_HUGE) {
