@@ -44,6 +44,8 @@ std::vector<Params> check_materials() {
                 p.specular = j == 3 ? 0.0 : to_float(1.0 - 0.2 * j);
                 p.metal_reflectance = to_float(0.7 + 0.05 * j);
                 p.weight = j == 2 ? to_float(0.75) : 1.0;
+                p.retro_lobe = (k / 2) % 2;
+                p.reciprocal = k % 3 == 0;
                 if (j == 1) {
                     // A tilted frame: directions are given in the space of normal and tangent.
                     p.normal = float_dir(0.2, -0.1, 1.0);

@@ -116,11 +116,17 @@ Params params_from_json(const json& j, const std::string& where) {
     }
 #define RP_VECTOR(n, x, y, z, geomprop, doc)                                                       \
     if (name == #n) p.n = direction(v, field);
+#define RP_BOOL(n, def, doc)                                                                       \
+    if (name == #n) {                                                                              \
+        if (!v.is_boolean()) throw InputError(field + ": expected true or false");                 \
+        p.n = v.get<bool>();                                                                       \
+    }
 #include "prismatic_retroreflector_params.def"
 #undef RP_FLOAT
 #undef RP_COLOR
 #undef RP_ENUM
 #undef RP_VECTOR
+#undef RP_BOOL
     }
     return p;
 }
@@ -131,11 +137,13 @@ json params_to_json(const Params& p) {
 #define RP_COLOR(n, r, g, b, doc) j[#n] = p.n;
 #define RP_ENUM(n, def, values, doc) j[#n] = enum_values(*find_param(#n)).at(size_t(p.n));
 #define RP_VECTOR(n, x, y, z, geomprop, doc) j[#n] = p.n;
+#define RP_BOOL(n, def, doc) j[#n] = p.n;
 #include "prismatic_retroreflector_params.def"
 #undef RP_FLOAT
 #undef RP_COLOR
 #undef RP_ENUM
 #undef RP_VECTOR
+#undef RP_BOOL
     return j;
 }
 
@@ -206,6 +214,11 @@ std::string params_markdown() {
             type = "string (uniform)";
             def = enum_values(i).at(size_t(i.default_value[0]));
             range = i.enum_values;
+            break;
+        case ParamType::Bool:
+            type = "boolean (uniform)";
+            def = i.default_value[0] != 0 ? "true" : "false";
+            range = "true, false";
             break;
         case ParamType::Vector:
             type = "vector3";

@@ -30,11 +30,15 @@ std::string compute_source(const std::string& library) {
 #define RP_VECTOR(name, x, y, z, geomprop, doc)                                                    \
     uniforms += "uniform vec3 u_" #name ";\n";                                                     \
     args += "u_" #name ", ";
+#define RP_BOOL(name, def, doc)                                                                    \
+    uniforms += "uniform bool u_" #name ";\n";                                                     \
+    args += "u_" #name ", ";
 #include "prismatic_retroreflector_params.def"
 #undef RP_FLOAT
 #undef RP_COLOR
 #undef RP_ENUM
 #undef RP_VECTOR
+#undef RP_BOOL
     return "#version 430\n"
            "layout(local_size_x = 64) in;\n" +
            library +
@@ -161,11 +165,13 @@ std::vector<Result> Runner::evaluate(const Params& p,
 #define RP_ENUM(name, def, values, doc) glUniform1i(loc("u_" #name), p.name);
 #define RP_VECTOR(name, x, y, z, geomprop, doc)                                                    \
     glUniform3f(loc("u_" #name), float(p.name[0]), float(p.name[1]), float(p.name[2]));
+#define RP_BOOL(name, def, doc) glUniform1i(loc("u_" #name), p.name ? 1 : 0);
 #include "prismatic_retroreflector_params.def"
 #undef RP_FLOAT
 #undef RP_COLOR
 #undef RP_ENUM
 #undef RP_VECTOR
+#undef RP_BOOL
     glUniform1i(loc("rp_count"), GLint(pairs.size()));
     std::vector<float> in(pairs.size() * 8);
     for (size_t i = 0; i < pairs.size(); ++i)

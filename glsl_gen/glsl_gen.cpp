@@ -164,11 +164,13 @@ std::string entry_point(const Variant& v) {
         ++enumIndex;                                                                               \
     }
 #define RP_VECTOR(name, x, y, z, geomprop, doc)
+#define RP_BOOL(name, def, doc)
 #include "prismatic_retroreflector_params.def"
 #undef RP_FLOAT
 #undef RP_COLOR
 #undef RP_ENUM
 #undef RP_VECTOR
+#undef RP_BOOL
     (void)enumIndex;
     std::string fixed;
     if (v.era_mode >= 0) fixed += "    era_mode = " + std::string(kEraConst[v.era_mode]) + ";\n";
@@ -194,11 +196,13 @@ std::string entry_point(const Variant& v) {
            "    vec3 wiLocal;\n"
            "    vec3 woLocal;\n"
            "    if (!rp_to_local(fN, fT, fB, wi, wiLocal) || !rp_to_local(fN, fT, fB, wo, "
-           "woLocal)) return;\n"
+           "woLocal)) {\n"
+           "        return;\n"
+           "    }\n"
            "    rp_material m = rp_prepare(weight, diffuse_color, retro_color, specular, "
-           "roughness, ior,\n"
-           "                               prism_reflection, metal_reflectance, era_mode, "
-           "orientation, 0);\n"
+           "roughness,\n"
+           "        ior, prism_reflection, metal_reflectance, era_mode, orientation, retro_lobe,\n"
+           "        reciprocal ? 1 : 0);\n"
            "    rp_lobes lobes;\n"
            "    rp_eval(m, wiLocal, woLocal, lobes, pdf);\n"
            "    surface = lobes.surface;\n"
@@ -266,11 +270,13 @@ std::string entry_signature() {
 #define RP_COLOR(name, r, g, b, doc) sig += "vec3 " #name ", ";
 #define RP_ENUM(name, def, values, doc) sig += "int " #name ", ";
 #define RP_VECTOR(name, x, y, z, geomprop, doc) sig += "vec3 " #name ", ";
+#define RP_BOOL(name, def, doc) sig += "bool " #name ", ";
 #include "prismatic_retroreflector_params.def"
 #undef RP_FLOAT
 #undef RP_COLOR
 #undef RP_ENUM
 #undef RP_VECTOR
+#undef RP_BOOL
     return sig +
            "vec3 wi, vec3 wo, out vec3 surface, out vec3 retro, out vec3 diffuse, out float pdf";
 }
@@ -318,11 +324,15 @@ std::string wrap_fragment(const std::string& library, Target target) {
 #define RP_VECTOR(name, x, y, z, geomprop, doc)                                                    \
     block += "    vec4 " #name ";\n";                                                              \
     args += "u." #name ".xyz, ";
+#define RP_BOOL(name, def, doc)                                                                    \
+    block += "    bool " #name ";\n";                                                              \
+    args += "u." #name ", ";
 #include "prismatic_retroreflector_params.def"
 #undef RP_FLOAT
 #undef RP_COLOR
 #undef RP_ENUM
 #undef RP_VECTOR
+#undef RP_BOOL
     std::string head;
     std::string layout = "layout(std140) uniform";
     switch (target) {

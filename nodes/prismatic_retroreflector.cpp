@@ -19,11 +19,14 @@ const std::vector<ParamInfo>& param_table() {
     {#name, ParamType::Enum, {def, 0, 0}, 0, 0, values, "", doc},
 #define RP_VECTOR(name, x, y, z, geomprop, doc)                                                    \
     {#name, ParamType::Vector, {x, y, z}, -1.0, 1.0, "", geomprop, doc},
+#define RP_BOOL(name, def, doc)                                                                    \
+    {#name, ParamType::Bool, {def ? 1.0 : 0.0, 0, 0}, 0, 1, "", "", doc},
 #include "prismatic_retroreflector_params.def"
 #undef RP_FLOAT
 #undef RP_COLOR
 #undef RP_ENUM
 #undef RP_VECTOR
+#undef RP_BOOL
     };
     return table;
 }
@@ -67,11 +70,13 @@ Params sanitize(const Params& in) {
 #define RP_ENUM(name, d, values, doc)                                                              \
     if (in.name < 0 || in.name >= int(enum_values(*find_param(#name)).size())) p.name = def.name;
 #define RP_VECTOR(name, x, y, z, geomprop, doc)
+#define RP_BOOL(name, def, doc)
 #include "prismatic_retroreflector_params.def"
 #undef RP_FLOAT
 #undef RP_COLOR
 #undef RP_ENUM
 #undef RP_VECTOR
+#undef RP_BOOL
     // The frame, as every backend makes it (rp_make_frame).
     f64::vec3 n, t, b;
     f64::rp_make_frame(f64::vec3(in.normal[0], in.normal[1], in.normal[2]),
@@ -139,7 +144,7 @@ f64::rp_material prepare_material(const Params& p) {
                            f64::vec3(p.diffuse_color[0], p.diffuse_color[1], p.diffuse_color[2]),
                            f64::vec3(p.retro_color[0], p.retro_color[1], p.retro_color[2]),
                            p.specular, p.roughness, p.ior, p.prism_reflection, p.metal_reflectance,
-                           p.era_mode, p.orientation, p.retro_anisotropic ? 1 : 0);
+                           p.era_mode, p.orientation, p.retro_lobe, p.reciprocal ? 1 : 0);
 }
 
 namespace {
@@ -168,6 +173,7 @@ f32::rp_material round_material<float>(const f64::rp_material& m) {
     r.vertex2 = f32::vec2(m.vertex2);
     r.vertex3 = f32::vec2(m.vertex3);
     r.retro_anisotropic = m.retro_anisotropic;
+    r.reciprocal = m.reciprocal;
     r.diffuse_scale = f32::vec3(m.diffuse_scale);
     r.diffuse_albedo = f32::vec3(m.diffuse_albedo);
     return r;

@@ -43,17 +43,17 @@ struct Params {
 #define RP_COLOR(name, r, g, b, doc) Color3 name = {r, g, b};
 #define RP_ENUM(name, def, values, doc) int name = def;
 #define RP_VECTOR(name, x, y, z, geomprop, doc) Vec3d name = {x, y, z};
+#define RP_BOOL(name, def, doc) bool name = def;
 #include "prismatic_retroreflector_params.def"
 #undef RP_FLOAT
 #undef RP_COLOR
 #undef RP_ENUM
 #undef RP_VECTOR
-    // Beyond the paper (MODEL.md section 3): the elliptical retro lobe. Not a node input yet.
-    bool retro_anisotropic = false;
+#undef RP_BOOL
 };
 
 // One row of the parameter table, for readers, help texts and generators.
-enum class ParamType { Float, Color, Enum, Vector };
+enum class ParamType { Float, Color, Enum, Vector, Bool };
 struct ParamInfo {
     const char* name;
     ParamType type;

@@ -678,6 +678,7 @@ struct rp_material {
     vec2 vertex2;
     vec2 vertex3;
     int retro_anisotropic; // 0: isotropic alpha_o (the paper); 1: alpha_par, alpha_perp
+    int reciprocal;        // 0: the paper's retro and diffuse lobes; 1: their reciprocal form
     vec3 diffuse_scale;    // k_d / (pi eta^2 (1 - k_d F_dr))   (MODEL.md section 3)
     vec3 diffuse_albedo;   // k_d (1 - F_dr_ext) / (eta^2 (1 - k_d F_dr))
 };
@@ -967,7 +968,8 @@ float rp_retro_fraction(in rp_material m, vec3 d) {
 // the generated table in GLSL. F_dr (inside) follows by eta^2 (1 - F_dr) = 1 - F_dr_ext.
 rp_material rp_prepare(float weight, vec3 diffuseColor, vec3 retroColor, float specular,
                              float roughness, float ior, int prismReflection, float metalReflectance,
-                             int eraMode, float orientationDeg, int retroAnisotropic) {
+                             int eraMode, float orientationDeg, int retroAnisotropic,
+                             int reciprocal) {
     rp_material m;
     m.weight = weight;
     m.specular = specular;
@@ -985,6 +987,7 @@ rp_material rp_prepare(float weight, vec3 diffuseColor, vec3 retroColor, float s
     m.vertex2 = vec2(c * RP_ERA_V2.x - s * RP_ERA_V2.y, s * RP_ERA_V2.x + c * RP_ERA_V2.y);
     m.vertex3 = vec2(c * RP_ERA_V3.x - s * RP_ERA_V3.y, s * RP_ERA_V3.x + c * RP_ERA_V3.y);
     m.retro_anisotropic = retroAnisotropic;
+    m.reciprocal = reciprocal;
     m.diffuse_scale = vec3(float(0.0));
     m.diffuse_albedo = vec3(float(0.0));
     return m;
@@ -1152,11 +1155,28 @@ void rp_eval_lobes(in rp_material m, in rp_incident s, vec3 wi, vec3 wo,
     float lambdaI = float(1.0) / s.g1I - float(1.0);
     float transO = rp_fresnel_transmittance(cosThetaO, m.eta);
 
-    if (s.era > float(0.0) && rp_mean3(m.retro_color) > float(0.0)) {
+    if (rp_mean3(m.retro_color) > float(0.0)) {
         float g1O = float(1.0) / (float(1.0) + lambdaO);
-        float gHat = s.g1I * s.g1T * s.g1T * g1O;
-        float po = rp_retro_density(s, wo, wi);
-        r.retro = m.retro_color * (s.era * s.transI * transO * gHat * po / cosThetaO);
+        if (m.reciprocal == 0) {
+            // Guo et al. 2018 as fixed by MODEL.md: E, alpha_o and the frame at wi; 1 / cos_o.
+            if (s.era > float(0.0)) {
+                float gHat = s.g1I * s.g1T * s.g1T * g1O;
+                float po = rp_retro_density(s, wo, wi);
+                r.retro = m.retro_color * (s.era * s.transI * transO * gHat * po / cosThetaO);
+            }
+        } else {
+            // Reciprocal form: E, G1(mu_t), alpha_o and the lobe frame at the mean direction
+            // of wi and wo, and 1 / sqrt(cos_i cos_o); the same as the paper's at the peak.
+            vec3 wMean = normalize(wi + wo);
+            rp_incident sm;
+            rp_incident_setup(m, wMean, sm);
+            if (sm.era > float(0.0)) {
+                float gHat = s.g1I * sm.g1T * sm.g1T * g1O;
+                float po = rp_retro_density(sm, wo, wi);
+                r.retro = m.retro_color *
+                          (sm.era * s.transI * transO * gHat * po / sqrt(s.cosThetaI * cosThetaO));
+            }
+        }
     }
     r.surface *= m.weight;
     r.retro *= m.weight;
@@ -1255,7 +1275,7 @@ bool rp_sample(in rp_material m, vec3 wi, vec3 u, out vec3 wo, out rp_lobes r,
 // and wo (toward the viewer), both given in the space of `normal` and `tangent`, and
 // the pdf of the node's sampling. Inputs are sanitised as in every backend: clamped
 // into their ranges, NaN replaced by the default.
-void rp_prismatic_retroreflector_eval(float weight, vec3 diffuse_color, vec3 retro_color, float specular, float roughness, float ior, int prism_reflection, float metal_reflectance, int era_mode, float orientation, vec3 normal, vec3 tangent, vec3 wi, vec3 wo, out vec3 surface, out vec3 retro, out vec3 diffuse, out float pdf) {
+void rp_prismatic_retroreflector_eval(float weight, vec3 diffuse_color, vec3 retro_color, float specular, float roughness, float ior, int prism_reflection, float metal_reflectance, int era_mode, float orientation, int retro_lobe, bool reciprocal, vec3 normal, vec3 tangent, vec3 wi, vec3 wo, out vec3 surface, out vec3 retro, out vec3 diffuse, out float pdf) {
     surface = vec3(0.0);
     retro = vec3(0.0);
     diffuse = vec3(0.0);
@@ -1270,15 +1290,19 @@ void rp_prismatic_retroreflector_eval(float weight, vec3 diffuse_color, vec3 ret
     metal_reflectance = rp_sanitize(metal_reflectance, 0.0, 1.0, 0.88);
     if (era_mode < 0 || era_mode > 2) era_mode = 0;
     orientation = rp_sanitize(orientation, 0.0, 360.0, 0.0);
+    if (retro_lobe < 0 || retro_lobe > 1) retro_lobe = 0;
     vec3 fN;
     vec3 fT;
     vec3 fB;
     rp_make_frame(normal, tangent, fN, fT, fB);
     vec3 wiLocal;
     vec3 woLocal;
-    if (!rp_to_local(fN, fT, fB, wi, wiLocal) || !rp_to_local(fN, fT, fB, wo, woLocal)) return;
-    rp_material m = rp_prepare(weight, diffuse_color, retro_color, specular, roughness, ior,
-                               prism_reflection, metal_reflectance, era_mode, orientation, 0);
+    if (!rp_to_local(fN, fT, fB, wi, wiLocal) || !rp_to_local(fN, fT, fB, wo, woLocal)) {
+        return;
+    }
+    rp_material m = rp_prepare(weight, diffuse_color, retro_color, specular, roughness,
+        ior, prism_reflection, metal_reflectance, era_mode, orientation, retro_lobe,
+        reciprocal ? 1 : 0);
     rp_lobes lobes;
     rp_eval(m, wiLocal, woLocal, lobes, pdf);
     surface = lobes.surface;
