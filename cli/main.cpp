@@ -216,6 +216,10 @@ int main(int argc, const char** argv) {
         if (cmd == "demo") return cmd_demo(argc - 1, argv + 1);
         if (cmd == "params") return cmd_params(argc - 1, argv + 1);
         if (cmd == "check") return cmd_check(argc - 1, argv + 1);
+        if (cmd == "simulate") return cmd_simulate(argc - 1, argv + 1);
+        if (cmd == "render") return cmd_render(argc - 1, argv + 1);
+        if (cmd == "ra") return cmd_ra(argc - 1, argv + 1);
+        if (cmd == "fit") return cmd_fit(argc - 1, argv + 1);
     } catch (const InputError& e) {
         std::fprintf(stderr, "retroprism %s: error: %s\n", cmd.c_str(), e.what());
         return 1;

@@ -7,7 +7,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config git
   libopenimageio-dev openimageio-tools libopenexr-dev libimath-dev
-  nlohmann-json3-dev libpugixml-dev catch2 libglm-dev
+  nlohmann-json3-dev libpugixml-dev catch2 libglm-dev libopencolorio-dev
   clang-format
   libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri glslang-tools spirv-tools
 )

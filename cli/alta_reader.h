@@ -1,0 +1,2 @@
+// Placeholder of alta_reader (issue 7), being written.
+#pragma once

@@ -1,0 +1,1 @@
+#include "mtlx_reader.h"

@@ -1,0 +1,2 @@
+// Placeholder of the microgeometry simulator (issue 3), being written.
+#pragma once
