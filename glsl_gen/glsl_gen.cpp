@@ -176,38 +176,76 @@ std::string entry_point(const Variant& v) {
     if (v.era_mode >= 0) fixed += "    era_mode = " + std::string(kEraConst[v.era_mode]) + ";\n";
     if (v.prism_reflection >= 0)
         fixed += "    prism_reflection = " + std::string(kPrismConst[v.prism_reflection]) + ";\n";
-    return "// The node, evaluated: f (1/sr, without the cosine) per lobe for wi (toward the "
-           "light)\n"
+    // The inputs in table order, as GLSL parameters and as arguments.
+    std::string inputs = entry_signature();
+    inputs = inputs.substr(0, inputs.find("vec3 wi,"));
+    std::string names;
+#define RP_FLOAT(name, def, lo, hi, doc) names += #name ", ";
+#define RP_COLOR(name, r, g, b, doc) names += #name ", ";
+#define RP_ENUM(name, def, values, doc) names += #name ", ";
+#define RP_VECTOR(name, x, y, z, geomprop, doc) names += #name ", ";
+#define RP_BOOL(name, def, doc) names += #name ", ";
+#include "prismatic_retroreflector_params.def"
+#undef RP_FLOAT
+#undef RP_COLOR
+#undef RP_ENUM
+#undef RP_VECTOR
+#undef RP_BOOL
+    return "// The node's inputs, sanitised as in every backend (clamped into their ranges, NaN\n"
+           "// replaced by the default), as the core's material and shading frame.\n"
+           "rp_material rp_prismatic_retroreflector_material(" +
+           inputs +
+           "out vec3 fN, out vec3 fT, out vec3 fB) {\n" + sanitize + fixed +
+           "    rp_make_frame(normal, tangent, fN, fT, fB);\n"
+           "    return rp_prepare(weight, diffuse_color, retro_color, specular, roughness, ior,\n"
+           "                      prism_reflection, metal_reflectance, era_mode, orientation,\n"
+           "                      retro_lobe, reciprocal ? 1 : 0);\n"
+           "}\n\n"
+           "// The node, evaluated: f (1/sr, without the cosine) per lobe for wi (toward the light)\n"
            "// and wo (toward the viewer), both given in the space of `normal` and `tangent`, and\n"
-           "// the pdf of the node's sampling. Inputs are sanitised as in every backend: clamped\n"
-           "// into their ranges, NaN replaced by the default.\n"
+           "// the pdf of the node's sampling.\n"
            "void rp_prismatic_retroreflector_eval(" +
            entry_signature() +
            ") {\n"
            "    surface = vec3(0.0);\n"
            "    retro = vec3(0.0);\n"
            "    diffuse = vec3(0.0);\n"
-           "    pdf = 0.0;\n" +
-           sanitize + fixed +
+           "    pdf = 0.0;\n"
            "    vec3 fN;\n"
            "    vec3 fT;\n"
            "    vec3 fB;\n"
-           "    rp_make_frame(normal, tangent, fN, fT, fB);\n"
+           "    rp_material m = rp_prismatic_retroreflector_material(" +
+           names +
+           "fN, fT, fB);\n"
            "    vec3 wiLocal;\n"
            "    vec3 woLocal;\n"
-           "    if (!rp_to_local(fN, fT, fB, wi, wiLocal) || !rp_to_local(fN, fT, fB, wo, "
-           "woLocal)) {\n"
+           "    if (!rp_to_local(fN, fT, fB, wi, wiLocal) || !rp_to_local(fN, fT, fB, wo, woLocal)) {\n"
            "        return;\n"
            "    }\n"
-           "    rp_material m = rp_prepare(weight, diffuse_color, retro_color, specular, "
-           "roughness,\n"
-           "        ior, prism_reflection, metal_reflectance, era_mode, orientation, retro_lobe,\n"
-           "        reciprocal ? 1 : 0);\n"
            "    rp_lobes lobes;\n"
            "    rp_eval(m, wiLocal, woLocal, lobes, pdf);\n"
            "    surface = lobes.surface;\n"
            "    retro = lobes.retro;\n"
            "    diffuse = lobes.diffuse;\n"
+           "}\n\n"
+           "// Each lobe's albedo estimate (rp_estimates_at, without `weight`) for light arriving\n"
+           "// from w, and the retro lobe's width alpha_o there.\n"
+           "void rp_prismatic_retroreflector_estimates(" +
+           inputs +
+           "vec3 w, out vec3 surface, out vec3 retro, out vec3 diffuse, out float alphaO) {\n"
+           "    surface = vec3(0.0);\n"
+           "    retro = vec3(0.0);\n"
+           "    diffuse = vec3(0.0);\n"
+           "    alphaO = 1.0;\n"
+           "    vec3 fN;\n"
+           "    vec3 fT;\n"
+           "    vec3 fB;\n"
+           "    rp_material m = rp_prismatic_retroreflector_material(" +
+           names +
+           "fN, fT, fB);\n"
+           "    vec3 wLocal;\n"
+           "    if (!rp_to_local(fN, fT, fB, w, wLocal) || !(wLocal.z >= RP_MIN_COS)) return;\n"
+           "    rp_estimates_at(m, wLocal, surface, retro, diffuse, alphaO);\n"
            "}\n";
 }
 
@@ -357,6 +395,163 @@ std::string wrap_fragment(const std::string& library, Target target) {
            "u.wi.xyz, u.wo.xyz, surface, retro, diffuse, pdf);\n"
            "    fragColor = vec4(surface + retro + diffuse, pdf);\n"
            "}\n";
+}
+
+namespace {
+
+std::string xml_escape(const std::string& in) {
+    std::string out;
+    for (char c : in) {
+        if (c == '&') out += "&amp;";
+        else if (c == '<') out += "&lt;";
+        else if (c == '>') out += "&gt;";
+        else if (c == '"') out += "&quot;";
+        else out += c;
+    }
+    return out;
+}
+
+std::string mtlx_num(double x) {
+    char buf[40];
+    std::snprintf(buf, sizeof buf, "%.6g", x);
+    return buf;
+}
+
+const char* kNodeDoc =
+    "Retroreflective prismatic sheeting (traffic signs, safety garments, licence plates): a rough "
+    "dielectric top surface, cube-corner prisms and a diffuse substrate (Guo, Guo and Pan, "
+    "Graphical Models 2018). Reflection only.";
+
+} // namespace
+
+std::vector<std::pair<std::string, std::string>> generate_materialx(const std::string& sourceDir) {
+    const std::string header = "<?xml version=\"1.0\"?>\n<materialx version=\"1.39\">\n"
+                               "  <!-- Generated by retroprism_glsl_gen from the parameter table "
+                               "(nodes/prismatic_retroreflector_params.def); do not edit. -->\n";
+    // Definitions.
+    std::string defs = header;
+    defs += "  <nodedef name=\"ND_rp_prismatic_retroreflector_bsdf\" "
+            "node=\"rp_prismatic_retroreflector_bsdf\" bsdf=\"R\" nodegroup=\"pbr\"\n"
+            "           doc=\"" + xml_escape(kNodeDoc) + "\">\n";
+    std::string params; // GLSL parameter list of the MaterialX function, in nodedef order
+    std::string args;   // the same names, passed on to the entry point
+#define RP_FLOAT(name, def, lo, hi, doc)                                                           \
+    defs += "    <input name=\"" #name "\" type=\"float\" value=\"" + mtlx_num(def) +             \
+            "\" uimin=\"" + mtlx_num(lo) + "\" uimax=\"" + mtlx_num(hi) + "\"\n           doc=\"" +   \
+            xml_escape(doc) + "\"/>\n";                                                           \
+    params += ", float " #name;                                                                     \
+    args += #name ", ";
+#define RP_COLOR(name, r, g, b, doc)                                                               \
+    defs += "    <input name=\"" #name "\" type=\"color3\" value=\"" + mtlx_num(r) + ", " +        \
+            mtlx_num(g) + ", " + mtlx_num(b) +                                                     \
+            "\" uimin=\"0, 0, 0\" uimax=\"1, 1, 1\"\n           doc=\"" + xml_escape(doc) +        \
+            "\"/>\n";                                                                             \
+    params += ", vec3 " #name;                                                                      \
+    args += #name ", ";
+#define RP_ENUM(name, def, values, doc)                                                            \
+    {                                                                                              \
+        std::vector<std::string> items;                                                            \
+        std::stringstream ss(values);                                                              \
+        std::string item;                                                                          \
+        while (std::getline(ss, item, ',')) items.push_back(item);                                 \
+        defs += "    <input name=\"" #name "\" type=\"string\" value=\"" + items.at(def) +         \
+                "\" enum=\"" values "\" uniform=\"true\"\n           doc=\"" + xml_escape(doc) +  \
+                "\"/>\n";                                                                         \
+    }                                                                                              \
+    params += ", int " #name;                                                                       \
+    args += #name ", ";
+#define RP_VECTOR(name, x, y, z, geomprop, doc)                                                    \
+    defs += "    <input name=\"" #name "\" type=\"vector3\" defaultgeomprop=\"" geomprop           \
+            "\"\n           doc=\"" + xml_escape(doc) + "\"/>\n";                                  \
+    params += ", vec3 " #name;                                                                      \
+    args += #name ", ";
+#define RP_BOOL(name, def, doc)                                                                    \
+    defs += "    <input name=\"" #name "\" type=\"boolean\" value=\"" +                          \
+            std::string(def ? "true" : "false") + "\" uniform=\"true\"\n           doc=\"" +      \
+            xml_escape(doc) + "\"/>\n";                                                           \
+    params += ", bool " #name;                                                                      \
+    args += #name ", ";
+#include "prismatic_retroreflector_params.def"
+#undef RP_FLOAT
+#undef RP_COLOR
+#undef RP_ENUM
+#undef RP_VECTOR
+#undef RP_BOOL
+    defs += "    <output name=\"out\" type=\"BSDF\"/>\n  </nodedef>\n</materialx>\n";
+
+    std::string impl = header;
+    impl += "  <implementation name=\"IM_rp_prismatic_retroreflector_bsdf_genglsl\"\n"
+            "                  nodedef=\"ND_rp_prismatic_retroreflector_bsdf\"\n"
+            "                  file=\"rp_prismatic_retroreflector_bsdf.glsl\"\n"
+            "                  function=\"mx_rp_prismatic_retroreflector_bsdf\" target=\"genglsl\"/>\n"
+            "</materialx>\n";
+
+    Variant full = standard_variants().front();
+    // MaterialX's closure types and its microfacet helpers (Fresnel data, forward-facing
+    // normal), included from its standard libraries' folder on the search path.
+    std::string glsl = "#include \"libraries/pbrlib/genglsl/lib/mx_closure_type.glsl\"\n"
+                       "#include \"libraries/pbrlib/genglsl/lib/mx_microfacet_specular.glsl\"\n\n" +
+                       generate_library(full, sourceDir);
+    glsl += "\n// ---- MaterialX genglsl closure (1.39.3 and later signature) --------------------------\n"
+            "//\n"
+            "// REFLECTION: per light, response = f(L, V) (N.L) occlusion, f including `weight`.\n"
+            "// INDIRECT: environment light approximated per lobe from the lobe albedo estimates of\n"
+            "// rp_estimates_at (their error against the exact albedo is measured by\n"
+            "// tests/test_physics.cpp): the surface lobe by MaterialX's pre-integrated GGX\n"
+            "// environment radiance at roughness alpha (Beckmann and GGX lobes of equal alpha\n"
+            "// are alike near their peak), the retro lobe by the environment radiance around V,\n"
+            "// the direction the light came from (a GGX lobe about N = V of alpha_o / 2: a\n"
+            "// reflected direction spreads twice as wide as the normals), and the diffuse lobe\n"
+            "// by the irradiance. Opaque: throughput 0. The normal faces the viewer, as in\n"
+            "// MaterialX's other BSDFs.\n"
+            "void mx_rp_prismatic_retroreflector_bsdf(ClosureData closureData" +
+            params +
+            ", inout BSDF bsdf)\n"
+            "{\n"
+            "    bsdf.throughput = vec3(0.0);\n"
+            "    vec3 V = closureData.V;\n"
+            "    vec3 N = mx_forward_facing_normal(normal, V);\n"
+            "    if (closureData.closureType == CLOSURE_TYPE_REFLECTION)\n"
+            "    {\n"
+            "        vec3 L = closureData.L;\n"
+            "        vec3 surface;\n"
+            "        vec3 retro;\n"
+            "        vec3 diffuse;\n"
+            "        float pdf;\n"
+            "        rp_prismatic_retroreflector_eval(" + args.substr(0, args.find("normal, ")) +
+            "N, tangent, L, V, surface, retro, diffuse, pdf);\n"
+            "        vec3 fN;\n"
+            "        vec3 fT;\n"
+            "        vec3 fB;\n"
+            "        rp_make_frame(N, tangent, fN, fT, fB);\n"
+            "        float NdotL = max(dot(fN, L), 0.0);\n"
+            "        bsdf.response = (surface + retro + diffuse) * NdotL * closureData.occlusion;\n"
+            "    }\n"
+            "    else if (closureData.closureType == CLOSURE_TYPE_INDIRECT)\n"
+            "    {\n"
+            "        vec3 albedoSurface;\n"
+            "        vec3 albedoRetro;\n"
+            "        vec3 albedoDiffuse;\n"
+            "        float alphaO;\n"
+            "        rp_prismatic_retroreflector_estimates(" + args.substr(0, args.find("normal, ")) +
+            "N, tangent, V, albedoSurface, albedoRetro, albedoDiffuse, alphaO);\n"
+            "        float ks = rp_sanitize(specular, 0.0, 1.0, 1.0);\n"
+            "        float w = rp_sanitize(weight, 0.0, 1.0, 1.0);\n"
+            "        float alphaS = clamp(roughness, M_FLOAT_EPS, 1.0);\n"
+            "        // mx_environment_radiance applies the dielectric's Fresnel itself.\n"
+            "        vec3 Ls = ks > 0.0 ? mx_environment_radiance(N, V, tangent, vec2(alphaS), 0,\n"
+            "                                   mx_init_fresnel_dielectric(ior, 0.0, 1.0)) * ks : vec3(0.0);\n"
+            "        vec3 X = abs(V.z) < 0.999 ? normalize(cross(V, vec3(0.0, 0.0, 1.0))) : vec3(1.0, 0.0, 0.0);\n"
+            "        float alphaR = clamp(0.5 * alphaO, M_FLOAT_EPS, 1.0);\n"
+            "        vec3 Lr = mx_environment_radiance(V, V, X, vec2(alphaR), 0,\n"
+            "                      mx_init_fresnel_schlick(vec3(1.0), vec3(1.0), vec3(1.0), 5.0, 0.0, 1.0));\n"
+            "        vec3 Ld = mx_environment_irradiance(N);\n"
+            "        bsdf.response = w * (Ls + Lr * albedoRetro + Ld * albedoDiffuse) * closureData.occlusion;\n"
+            "    }\n"
+            "}\n";
+    return {{"materialx/rp_pbrlib/rp_pbrlib_defs.mtlx", defs},
+            {"materialx/rp_pbrlib/genglsl/rp_pbrlib_genglsl_impl.mtlx", impl},
+            {"materialx/rp_pbrlib/genglsl/rp_prismatic_retroreflector_bsdf.glsl", glsl}};
 }
 
 } // namespace retroprism::glsl

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <set>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,12 @@ std::string generate_library(const Variant& v, const std::string& source_dir);
 // inputs in a uniform block, the entry point called from main.
 enum class Target { Glsl450, Essl300, Vulkan };
 std::string wrap_fragment(const std::string& library, Target target);
+
+// The MaterialX node library, generated from the parameter table and the full variant:
+// relative path (under the project root) -> file text. Node `rp_prismatic_retroreflector_bsdf`,
+// nodedef ND_rp_prismatic_retroreflector_bsdf (bsdf="R"), genglsl implementation
+// IM_rp_prismatic_retroreflector_bsdf_genglsl, function mx_rp_prismatic_retroreflector_bsdf.
+std::vector<std::pair<std::string, std::string>> generate_materialx(const std::string& source_dir);
 
 // The entry point's GLSL signature: the node inputs in table order, then the directions.
 std::string entry_signature();

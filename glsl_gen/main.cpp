@@ -1,9 +1,11 @@
-// retroprism_glsl_gen: writes glsl_gen/generated/<variant>.glsl for every standard variant, or
-// with --check compares them with what is checked in (exit 1 on any difference).
+// retroprism_glsl_gen: writes every generated file — glsl_gen/generated/<variant>.glsl for each
+// standard variant and the MaterialX library under materialx/rp_pbrlib/ — or, with --check,
+// compares them with what is checked in (exit 1 on any difference).
 //
 //   retroprism_glsl_gen SOURCE_DIR [--check]
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -18,10 +20,16 @@ int main(int argc, char** argv) {
     const std::string root = argv[1];
     const bool check = argc == 3;
     int differing = 0;
+    size_t files = 0;
     try {
-        for (const auto& v : retroprism::glsl::standard_variants()) {
-            const std::string text = retroprism::glsl::generate_library(v, root);
-            const std::string path = root + "/glsl_gen/generated/" + v.name + ".glsl";
+        std::vector<std::pair<std::string, std::string>> outputs;
+        for (const auto& v : retroprism::glsl::standard_variants())
+            outputs.push_back({"glsl_gen/generated/" + v.name + ".glsl",
+                               retroprism::glsl::generate_library(v, root)});
+        for (auto& f : retroprism::glsl::generate_materialx(root)) outputs.push_back(f);
+        files = outputs.size();
+        for (const auto& [rel, text] : outputs) {
+            const std::string path = root + "/" + rel;
             if (check) {
                 std::ifstream in(path, std::ios::binary);
                 std::stringstream ss;
@@ -34,19 +42,17 @@ int main(int argc, char** argv) {
                     ++differing;
                 }
             } else {
+                std::filesystem::create_directories(std::filesystem::path(path).parent_path());
                 std::ofstream out(path, std::ios::binary);
                 out << text;
                 if (!out) throw std::runtime_error(path + ": cannot write");
-                std::printf("wrote %s (%s)\n", path.c_str(), v.describe().c_str());
+                std::printf("wrote %s\n", path.c_str());
             }
         }
     } catch (const std::exception& e) {
         std::fprintf(stderr, "retroprism_glsl_gen: %s\n", e.what());
         return 1;
     }
-    if (check) {
-        std::printf("glsl_gen: %d of %zu generated files differ\n", differing,
-                    retroprism::glsl::standard_variants().size());
-    }
+    if (check) std::printf("glsl_gen: %d of %zu generated files differ\n", differing, files);
     return differing == 0 ? 0 : 1;
 }

@@ -1027,6 +1027,17 @@ float rp_mean3(vec3 c) {
     return (c.x + c.y + c.z) * float(1.0 / 3.0);
 }
 
+// The estimates behind the mixture weights, from the incident state (see rp_estimates_at).
+void rp_lobe_estimates(in rp_material m, in rp_incident s, out vec3 surface,
+                             out vec3 retro, out vec3 diffuse) {
+    surface = vec3(float(0.0));
+    retro = vec3(float(0.0));
+    diffuse = vec3(float(0.0));
+    surface = vec3(m.specular * s.fresI);
+    retro = m.retro_color * (s.era * s.transI * s.transI * s.g1I * s.g1I * s.g1T * s.g1T);
+    diffuse = m.diffuse_albedo * (s.transI * (float(1.0) - s.era));
+}
+
 void rp_incident_setup(in rp_material m, vec3 wi, out rp_incident s) {
     float cosThetaI = wi.z;
     s.cosThetaI = cosThetaI;
@@ -1074,18 +1085,33 @@ void rp_incident_setup(in rp_material m, vec3 wi, out rp_incident s) {
     }
 
     // Mixture weights: cheap estimates of each lobe's albedo at wi (MODEL.md section 4).
-    float pS = float(0.0);
-    float pR = float(0.0);
-    float pD = float(0.0);
-    pS = m.specular * s.fresI;
-    pR = rp_mean3(m.retro_color) * s.era * s.transI * s.transI * s.g1I * s.g1I * s.g1T * s.g1T;
-    pD = s.transI * (float(1.0) - s.era) * rp_mean3(m.diffuse_albedo);
+    vec3 estS;
+    vec3 estR;
+    vec3 estD;
+    rp_lobe_estimates(m, s, estS, estR, estD);
+    float pS = rp_mean3(estS);
+    float pR = rp_mean3(estR);
+    float pD = rp_mean3(estD);
     float total = pS + pR + pD;
     if (total > float(0.0) && cosThetaI >= RP_MIN_COS && m.weight > float(0.0)) {
         s.lobeProb = vec3(pS, pR, pD) / total;
     } else {
         s.lobeProb = vec3(float(0.0));
     }
+}
+
+// Each lobe's directional albedo at wi, estimated cheaply per channel (without `weight`):
+// surface k_s F(cos_i); retro c_r E T_i^2 G1(wi)^2 G1(mu_t)^2 (the lobe's value at its peak
+// direction wo = wi, integrated as if the lobe were narrow); diffuse, exactly,
+// T_i (1 - E) k_d (1 - F_dr_ext) / (eta^2 (1 - k_d F_dr)). They weight the one-sample
+// mixture, and approximate the lobes under environment light (MaterialX's INDIRECT closure);
+// tests/test_physics.cpp measures them against albedo().
+void rp_estimates_at(in rp_material m, vec3 wi, out vec3 surface, out vec3 retro,
+                           out vec3 diffuse, out float alphaO) {
+    rp_incident s;
+    rp_incident_setup(m, wi, s);
+    rp_lobe_estimates(m, s, surface, retro, diffuse);
+    alphaO = sqrt(s.alphaPar * s.alphaPerp);
 }
 
 // ---- The three lobes (MODEL.md section 3) -------------------------------------------------
@@ -1276,15 +1302,9 @@ float rp_fdr_external(float eta) {
     return rp_fdr_external_table(eta);
 }
 
-// The node, evaluated: f (1/sr, without the cosine) per lobe for wi (toward the light)
-// and wo (toward the viewer), both given in the space of `normal` and `tangent`, and
-// the pdf of the node's sampling. Inputs are sanitised as in every backend: clamped
-// into their ranges, NaN replaced by the default.
-void rp_prismatic_retroreflector_eval(float weight, vec3 diffuse_color, vec3 retro_color, float specular, float roughness, float ior, int prism_reflection, float metal_reflectance, int era_mode, float orientation, int retro_lobe, bool reciprocal, vec3 normal, vec3 tangent, vec3 wi, vec3 wo, out vec3 surface, out vec3 retro, out vec3 diffuse, out float pdf) {
-    surface = vec3(0.0);
-    retro = vec3(0.0);
-    diffuse = vec3(0.0);
-    pdf = 0.0;
+// The node's inputs, sanitised as in every backend (clamped into their ranges, NaN
+// replaced by the default), as the core's material and shading frame.
+rp_material rp_prismatic_retroreflector_material(float weight, vec3 diffuse_color, vec3 retro_color, float specular, float roughness, float ior, int prism_reflection, float metal_reflectance, int era_mode, float orientation, int retro_lobe, bool reciprocal, vec3 normal, vec3 tangent, out vec3 fN, out vec3 fT, out vec3 fB) {
     weight = rp_sanitize(weight, 0.0, 1.0, 1.0);
     diffuse_color = vec3(rp_sanitize(diffuse_color.x, 0.0, 1.0, 0.9), rp_sanitize(diffuse_color.y, 0.0, 1.0, 0.9), rp_sanitize(diffuse_color.z, 0.0, 1.0, 0.9));
     retro_color = vec3(rp_sanitize(retro_color.x, 0.0, 1.0, 1.0), rp_sanitize(retro_color.y, 0.0, 1.0, 1.0), rp_sanitize(retro_color.z, 0.0, 1.0, 1.0));
@@ -1298,21 +1318,48 @@ void rp_prismatic_retroreflector_eval(float weight, vec3 diffuse_color, vec3 ret
     if (retro_lobe < 0 || retro_lobe > 1) retro_lobe = 0;
     era_mode = RP_ERA_MATCHED_PAIR;
     prism_reflection = RP_PRISM_TIR;
+    rp_make_frame(normal, tangent, fN, fT, fB);
+    return rp_prepare(weight, diffuse_color, retro_color, specular, roughness, ior,
+                      prism_reflection, metal_reflectance, era_mode, orientation,
+                      retro_lobe, reciprocal ? 1 : 0);
+}
+
+// The node, evaluated: f (1/sr, without the cosine) per lobe for wi (toward the light)
+// and wo (toward the viewer), both given in the space of `normal` and `tangent`, and
+// the pdf of the node's sampling.
+void rp_prismatic_retroreflector_eval(float weight, vec3 diffuse_color, vec3 retro_color, float specular, float roughness, float ior, int prism_reflection, float metal_reflectance, int era_mode, float orientation, int retro_lobe, bool reciprocal, vec3 normal, vec3 tangent, vec3 wi, vec3 wo, out vec3 surface, out vec3 retro, out vec3 diffuse, out float pdf) {
+    surface = vec3(0.0);
+    retro = vec3(0.0);
+    diffuse = vec3(0.0);
+    pdf = 0.0;
     vec3 fN;
     vec3 fT;
     vec3 fB;
-    rp_make_frame(normal, tangent, fN, fT, fB);
+    rp_material m = rp_prismatic_retroreflector_material(weight, diffuse_color, retro_color, specular, roughness, ior, prism_reflection, metal_reflectance, era_mode, orientation, retro_lobe, reciprocal, normal, tangent, fN, fT, fB);
     vec3 wiLocal;
     vec3 woLocal;
     if (!rp_to_local(fN, fT, fB, wi, wiLocal) || !rp_to_local(fN, fT, fB, wo, woLocal)) {
         return;
     }
-    rp_material m = rp_prepare(weight, diffuse_color, retro_color, specular, roughness,
-        ior, prism_reflection, metal_reflectance, era_mode, orientation, retro_lobe,
-        reciprocal ? 1 : 0);
     rp_lobes lobes;
     rp_eval(m, wiLocal, woLocal, lobes, pdf);
     surface = lobes.surface;
     retro = lobes.retro;
     diffuse = lobes.diffuse;
+}
+
+// Each lobe's albedo estimate (rp_estimates_at, without `weight`) for light arriving
+// from w, and the retro lobe's width alpha_o there.
+void rp_prismatic_retroreflector_estimates(float weight, vec3 diffuse_color, vec3 retro_color, float specular, float roughness, float ior, int prism_reflection, float metal_reflectance, int era_mode, float orientation, int retro_lobe, bool reciprocal, vec3 normal, vec3 tangent, vec3 w, out vec3 surface, out vec3 retro, out vec3 diffuse, out float alphaO) {
+    surface = vec3(0.0);
+    retro = vec3(0.0);
+    diffuse = vec3(0.0);
+    alphaO = 1.0;
+    vec3 fN;
+    vec3 fT;
+    vec3 fB;
+    rp_material m = rp_prismatic_retroreflector_material(weight, diffuse_color, retro_color, specular, roughness, ior, prism_reflection, metal_reflectance, era_mode, orientation, retro_lobe, reciprocal, normal, tangent, fN, fT, fB);
+    vec3 wLocal;
+    if (!rp_to_local(fN, fT, fB, w, wLocal) || !(wLocal.z >= RP_MIN_COS)) return;
+    rp_estimates_at(m, wLocal, surface, retro, diffuse, alphaO);
 }
