@@ -65,30 +65,24 @@ std::string compute_source(const std::string& library) {
 
 } // namespace
 
-struct Runner::Impl {
-    EGLDisplay display = EGL_NO_DISPLAY;
-    EGLContext context = EGL_NO_CONTEXT;
-    GLuint program = 0;
-};
-
-Runner::Runner(const std::string& library) : impl_(new Impl) {
-    Impl& g = *impl_;
+EglContext::EglContext() {
     if (!epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_MESA_platform_surfaceless"))
         throw GlError("EGL: the client extension EGL_MESA_platform_surfaceless is missing "
                       "(install Mesa: libegl-mesa0 libgl1-mesa-dri)");
-    g.display =
+    EGLDisplay display =
         eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
     EGLint major = 0, minor = 0;
-    if (g.display == EGL_NO_DISPLAY || !eglInitialize(g.display, &major, &minor))
+    if (display == EGL_NO_DISPLAY || !eglInitialize(display, &major, &minor))
         throw GlError("EGL: cannot initialise a surfaceless display (error " +
                       egl_error_name(eglGetError()) + ")");
+    display_ = display;
     if (!eglBindAPI(EGL_OPENGL_API)) throw GlError("EGL: cannot bind the OpenGL API");
     const EGLint configAttribs[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE,
                                     EGL_OPENGL_BIT, EGL_NONE};
     EGLConfig config = nullptr;
     EGLint count = 0;
-    if (!eglChooseConfig(g.display, configAttribs, &config, 1, &count) || count < 1) {
-        if (!epoxy_has_egl_extension(g.display, "EGL_KHR_no_config_context"))
+    if (!eglChooseConfig(display, configAttribs, &config, 1, &count) || count < 1) {
+        if (!epoxy_has_egl_extension(display, "EGL_KHR_no_config_context"))
             throw GlError("EGL: no OpenGL-capable config on the surfaceless display");
         config = EGL_NO_CONFIG_KHR;
     }
@@ -99,66 +93,87 @@ Runner::Runner(const std::string& library) : impl_(new Impl) {
                                      EGL_CONTEXT_OPENGL_PROFILE_MASK,
                                      EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
                                      EGL_NONE};
-    g.context = eglCreateContext(g.display, config, EGL_NO_CONTEXT, contextAttribs);
-    if (g.context == EGL_NO_CONTEXT)
+    EGLContext context = eglCreateContext(display, config, EGL_NO_CONTEXT, contextAttribs);
+    if (context == EGL_NO_CONTEXT)
         throw GlError("EGL: cannot create an OpenGL 4.5 core context (error " +
                       egl_error_name(eglGetError()) + ")");
-    if (!eglMakeCurrent(g.display, EGL_NO_SURFACE, EGL_NO_SURFACE, g.context))
+    context_ = context;
+    use();
+}
+
+EglContext::~EglContext() {
+    // The display is shared by every context of the process: only the context goes.
+    if (context_) {
+        eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+        eglDestroyContext(display_, context_);
+    }
+}
+
+void EglContext::use() const {
+    if (!eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_))
         throw GlError("EGL: cannot make the context current without a surface (error " +
                       egl_error_name(eglGetError()) + ")");
-
-    const std::string source = compute_source(library);
-    const char* text = source.c_str();
-    GLuint shader = glCreateShader(GL_COMPUTE_SHADER);
-    glShaderSource(shader, 1, &text, nullptr);
-    glCompileShader(shader);
-    GLint ok = 0;
-    glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        GLint len = 0;
-        glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &len);
-        std::string log(size_t(std::max(len, 1)), '\0');
-        glGetShaderInfoLog(shader, len, nullptr, &log[0]);
-        glDeleteShader(shader);
-        throw GlError("GLSL: the compute shader does not compile:\n" + log);
-    }
-    g.program = glCreateProgram();
-    glAttachShader(g.program, shader);
-    glLinkProgram(g.program);
-    glDeleteShader(shader);
-    glGetProgramiv(g.program, GL_LINK_STATUS, &ok);
-    if (!ok) {
-        GLint len = 0;
-        glGetProgramiv(g.program, GL_INFO_LOG_LENGTH, &len);
-        std::string log(size_t(std::max(len, 1)), '\0');
-        glGetProgramInfoLog(g.program, len, nullptr, &log[0]);
-        throw GlError("GLSL: the compute program does not link:\n" + log);
-    }
 }
 
-Runner::~Runner() {
-    Impl& g = *impl_;
-    if (g.program) glDeleteProgram(g.program);
-    if (g.display != EGL_NO_DISPLAY) {
-        eglMakeCurrent(g.display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
-        if (g.context != EGL_NO_CONTEXT) eglDestroyContext(g.display, g.context);
-        eglTerminate(g.display);
-    }
-}
-
-std::string Runner::renderer() const {
+std::string EglContext::renderer() const {
+    use();
     const char* r = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
     const char* v = reinterpret_cast<const char*>(glGetString(GL_VERSION));
     return std::string(r ? r : "?") + ", OpenGL " + (v ? v : "?");
 }
 
+unsigned build_program(const std::vector<std::pair<unsigned, std::string>>& stages) {
+    GLuint program = glCreateProgram();
+    for (const auto& [type, source] : stages) {
+        const char* text = source.c_str();
+        GLuint shader = glCreateShader(GLenum(type));
+        glShaderSource(shader, 1, &text, nullptr);
+        glCompileShader(shader);
+        GLint ok = 0;
+        glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+        if (!ok) {
+            GLint len = 0;
+            glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &len);
+            std::string log(size_t(std::max(len, 1)), '\0');
+            glGetShaderInfoLog(shader, len, nullptr, &log[0]);
+            glDeleteShader(shader);
+            glDeleteProgram(program);
+            throw GlError("GLSL: a shader does not compile:\n" + log);
+        }
+        glAttachShader(program, shader);
+        glDeleteShader(shader);
+    }
+    glLinkProgram(program);
+    GLint ok = 0;
+    glGetProgramiv(program, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        GLint len = 0;
+        glGetProgramiv(program, GL_INFO_LOG_LENGTH, &len);
+        std::string log(size_t(std::max(len, 1)), '\0');
+        glGetProgramInfoLog(program, len, nullptr, &log[0]);
+        glDeleteProgram(program);
+        throw GlError("GLSL: the program does not link:\n" + log);
+    }
+    return program;
+}
+
+Runner::Runner(const std::string& library)
+    : program_(build_program({{GL_COMPUTE_SHADER, compute_source(library)}})) {}
+
+Runner::~Runner() {
+    context_.use();
+    if (program_) glDeleteProgram(program_);
+}
+
+std::string Runner::renderer() const { return context_.renderer(); }
+
 std::vector<Result> Runner::evaluate(const Params& p,
                                      const std::vector<std::array<Vec3d, 2>>& pairs) {
-    Impl& g = *impl_;
     std::vector<Result> results(pairs.size());
     if (pairs.empty()) return results;
-    glUseProgram(g.program);
-    auto loc = [&](const char* name) { return glGetUniformLocation(g.program, name); };
+    context_.use();
+    glUseProgram(program_);
+    auto loc = [&](const char* name) { return glGetUniformLocation(program_, name); };
 #define RP_FLOAT(name, def, lo, hi, doc) glUniform1f(loc("u_" #name), float(p.name));
 #define RP_COLOR(name, r, gg, b, doc)                                                              \
     glUniform3f(loc("u_" #name), float(p.name[0]), float(p.name[1]), float(p.name[2]));

@@ -7,6 +7,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "prismatic_retroreflector.h"
@@ -19,6 +20,26 @@ class GlError : public std::runtime_error {
   public:
     using std::runtime_error::runtime_error;
 };
+
+// An OpenGL 4.5 core context on an EGL surfaceless display, made current on creation. Several
+// may live in one process; use() makes one current.
+class EglContext {
+  public:
+    EglContext();
+    ~EglContext();
+    EglContext(const EglContext&) = delete;
+    EglContext& operator=(const EglContext&) = delete;
+    void use() const;
+    // GL_RENDERER and GL_VERSION.
+    std::string renderer() const;
+
+  private:
+    void* display_ = nullptr;
+    void* context_ = nullptr;
+};
+
+// Compiles and links a program from (type, source) stages; GlError with the compiler's log.
+unsigned build_program(const std::vector<std::pair<unsigned, std::string>>& stages);
 
 struct Result {
     std::array<float, 3> surface{};
@@ -41,8 +62,8 @@ class Runner {
     std::string renderer() const;
 
   private:
-    struct Impl;
-    std::unique_ptr<Impl> impl_;
+    EglContext context_;
+    unsigned program_ = 0;
 };
 
 // The generated full-runtime variant, embedded in the binary at build time.
