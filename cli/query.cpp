@@ -1,6 +1,7 @@
 #include "query.h"
 
 #include "gl_runner.h"
+#include "mx_runner.h"
 
 #include <cmath>
 #include <fstream>
@@ -234,7 +235,7 @@ std::string params_markdown() {
 }
 
 std::vector<std::string> backend_names() {
-    return {"cpp-double", "cpp-float", "glsl"};
+    return {"cpp-double", "cpp-float", "glsl", "materialx"};
 }
 
 namespace {
@@ -261,14 +262,7 @@ json answer_cpp(const Query& q, const std::string& name) {
 
 } // namespace
 
-json answer_glsl(const Query& q) {
-    // One context and compiled program per process (compiling takes llvmpipe a while).
-    static gl::Runner runner(gl::embedded_library());
-    std::vector<std::array<Vec3d, 2>> pairs;
-    pairs.reserve(q.samples.size());
-    for (const DirectionPair& s : q.samples)
-        pairs.push_back({s.wi, s.wo});
-    std::vector<gl::Result> res = runner.evaluate(q.material, pairs);
+json results_json(const std::vector<gl::Result>& res) {
     json results = json::array();
     auto rgb = [](const std::array<float, 3>& v) {
         return json::array({double(v[0]), double(v[1]), double(v[2])});
@@ -281,15 +275,34 @@ json answer_glsl(const Query& q) {
                            {"surface", rgb(r.surface)},
                            {"retro", rgb(r.retro)},
                            {"diffuse", rgb(r.diffuse)},
-                           {"pdf", double(r.pdf)}});
+                           {"pdf", std::isnan(r.pdf) ? json(nullptr) : json(double(r.pdf))}});
     }
-    return {{"backend", "glsl"}, {"results", results}};
+    return results;
+}
+
+json answer_glsl(const Query& q) {
+    // One context and compiled program per process (compiling takes llvmpipe a while).
+    static gl::Runner runner(gl::embedded_library());
+    std::vector<std::array<Vec3d, 2>> pairs;
+    pairs.reserve(q.samples.size());
+    for (const DirectionPair& s : q.samples) pairs.push_back({s.wi, s.wo});
+    return {{"backend", "glsl"}, {"results", results_json(runner.evaluate(q.material, pairs))}};
+}
+
+json answer_materialx(const Query& q) {
+    // One MaterialX shader per process; each query's material is set through its uniforms.
+    static gl::MaterialXRunner runner(RP_SOURCE_DIR);
+    std::vector<std::array<Vec3d, 2>> pairs;
+    pairs.reserve(q.samples.size());
+    for (const DirectionPair& s : q.samples) pairs.push_back({s.wi, s.wo});
+    return {{"backend", "materialx"}, {"results", results_json(runner.evaluate(q.material, pairs))}};
 }
 
 json answer_query(const Query& q, const std::string& backend) {
     if (backend == "cpp-double") return answer_cpp<double>(q, backend);
     if (backend == "cpp-float") return answer_cpp<float>(q, backend);
     if (backend == "glsl") return answer_glsl(q);
+    if (backend == "materialx") return answer_materialx(q);
     std::string names;
     for (const std::string& n : backend_names())
         names += (names.empty() ? "" : ", ") + n;

@@ -1,0 +1,63 @@
+// mx_runner.h: the node as real MaterialX generates it. A document holding the node is turned
+// into GLSL by MaterialX 1.39.4 (materialx/tools/mx.cjs, run with Node.js), and that vertex and
+// fragment shader pair renders on OpenGL 4.5 (EGL surfaceless) into a float target.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "gl_runner.h"
+
+namespace retroprism::gl {
+
+// A MaterialX light for render(): a directional light travelling along `direction`, or a
+// point light at `position`, with MaterialX's attenuation (distance + 1)^decay_rate.
+struct MxLight {
+    bool point = false;
+    Vec3d direction{0, 0, -1};
+    Vec3d position{0, 0, 1};
+    Vec3d color{1, 1, 1};
+    double intensity = 1;
+    double decay_rate = 2;
+};
+
+struct MxImage {
+    int width = 0;
+    int height = 0;
+    std::vector<float> rgba;          // row 0 at the bottom (OpenGL's order)
+    std::vector<float> positionWorld; // the fragment's world position per pixel (xyz)
+};
+
+class MaterialXRunner {
+  public:
+    // Generates the shaders for a document of one node with MaterialX (`node` must be on the
+    // PATH and materialx/tools installed with npm; the error says so otherwise) and compiles
+    // them. `source_dir` is the project root.
+    explicit MaterialXRunner(const std::string& source_dir);
+    ~MaterialXRunner();
+    MaterialXRunner(const MaterialXRunner&) = delete;
+    MaterialXRunner& operator=(const MaterialXRunner&) = delete;
+
+    // The BRDF per lobe at each (wi, wo) pair, through MaterialX's surface shader: each pair is
+    // rendered into a pixel of its own under a directional light from wi, seen from wo, once
+    // with each lobe alone (the other lobes' weight or colour set to 0); the response
+    // f (N.L) is divided by N.L. The pdf is not part of a MaterialX shader: Result::pdf is NaN.
+    std::vector<Result> evaluate(const Params& p, const std::vector<std::array<Vec3d, 2>>& pairs);
+
+    // A w x h image of the unit square z = 0 ([-1, 1]^2, normal +z) seen by a pinhole camera at
+    // `eye` looking at the origin (vertical field of view fovDeg), lit by `lights`.
+    MxImage render(const Params& p, int w, int h, const Vec3d& eye, double fovDeg,
+                   const std::vector<MxLight>& lights);
+
+    const std::string& fragment_source() const { return fragment_; }
+
+  private:
+    void set_material(const Params& p);
+    EglContext context_;
+    std::string vertex_, fragment_;
+    unsigned program_ = 0;
+    unsigned vao_ = 0, vbo_ = 0, fbo_ = 0, colorTex_ = 0, posProgram_ = 0;
+};
+
+} // namespace retroprism::gl
