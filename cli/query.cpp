@@ -285,7 +285,8 @@ json answer_glsl(const Query& q) {
     static gl::Runner runner(gl::embedded_library());
     std::vector<std::array<Vec3d, 2>> pairs;
     pairs.reserve(q.samples.size());
-    for (const DirectionPair& s : q.samples) pairs.push_back({s.wi, s.wo});
+    for (const DirectionPair& s : q.samples)
+        pairs.push_back({s.wi, s.wo});
     return {{"backend", "glsl"}, {"results", results_json(runner.evaluate(q.material, pairs))}};
 }
 
@@ -294,8 +295,10 @@ json answer_materialx(const Query& q) {
     static gl::MaterialXRunner runner(RP_SOURCE_DIR);
     std::vector<std::array<Vec3d, 2>> pairs;
     pairs.reserve(q.samples.size());
-    for (const DirectionPair& s : q.samples) pairs.push_back({s.wi, s.wo});
-    return {{"backend", "materialx"}, {"results", results_json(runner.evaluate(q.material, pairs))}};
+    for (const DirectionPair& s : q.samples)
+        pairs.push_back({s.wi, s.wo});
+    return {{"backend", "materialx"},
+            {"results", results_json(runner.evaluate(q.material, pairs))}};
 }
 
 json answer_query(const Query& q, const std::string& backend) {

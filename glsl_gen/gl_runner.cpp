@@ -165,7 +165,9 @@ Runner::~Runner() {
     if (program_) glDeleteProgram(program_);
 }
 
-std::string Runner::renderer() const { return context_.renderer(); }
+std::string Runner::renderer() const {
+    return context_.renderer();
+}
 
 std::vector<Result> Runner::evaluate(const Params& p,
                                      const std::vector<std::array<Vec3d, 2>>& pairs) {

@@ -194,14 +194,14 @@ std::string entry_point(const Variant& v) {
     return "// The node's inputs, sanitised as in every backend (clamped into their ranges, NaN\n"
            "// replaced by the default), as the core's material and shading frame.\n"
            "rp_material rp_prismatic_retroreflector_material(" +
-           inputs +
-           "out vec3 fN, out vec3 fT, out vec3 fB) {\n" + sanitize + fixed +
+           inputs + "out vec3 fN, out vec3 fT, out vec3 fB) {\n" + sanitize + fixed +
            "    rp_make_frame(normal, tangent, fN, fT, fB);\n"
            "    return rp_prepare(weight, diffuse_color, retro_color, specular, roughness, ior,\n"
            "                      prism_reflection, metal_reflectance, era_mode, orientation,\n"
            "                      retro_lobe, reciprocal ? 1 : 0);\n"
            "}\n\n"
-           "// The node, evaluated: f (1/sr, without the cosine) per lobe for wi (toward the light)\n"
+           "// The node, evaluated: f (1/sr, without the cosine) per lobe for wi (toward the "
+           "light)\n"
            "// and wo (toward the viewer), both given in the space of `normal` and `tangent`, and\n"
            "// the pdf of the node's sampling.\n"
            "void rp_prismatic_retroreflector_eval(" +
@@ -219,7 +219,8 @@ std::string entry_point(const Variant& v) {
            "fN, fT, fB);\n"
            "    vec3 wiLocal;\n"
            "    vec3 woLocal;\n"
-           "    if (!rp_to_local(fN, fT, fB, wi, wiLocal) || !rp_to_local(fN, fT, fB, wo, woLocal)) {\n"
+           "    if (!rp_to_local(fN, fT, fB, wi, wiLocal) || !rp_to_local(fN, fT, fB, wo, "
+           "woLocal)) {\n"
            "        return;\n"
            "    }\n"
            "    rp_lobes lobes;\n"
@@ -402,11 +403,16 @@ namespace {
 std::string xml_escape(const std::string& in) {
     std::string out;
     for (char c : in) {
-        if (c == '&') out += "&amp;";
-        else if (c == '<') out += "&lt;";
-        else if (c == '>') out += "&gt;";
-        else if (c == '"') out += "&quot;";
-        else out += c;
+        if (c == '&')
+            out += "&amp;";
+        else if (c == '<')
+            out += "&lt;";
+        else if (c == '>')
+            out += "&gt;";
+        else if (c == '"')
+            out += "&quot;";
+        else
+            out += c;
     }
     return out;
 }
@@ -432,44 +438,47 @@ std::vector<std::pair<std::string, std::string>> generate_materialx(const std::s
     std::string defs = header;
     defs += "  <nodedef name=\"ND_rp_prismatic_retroreflector_bsdf\" "
             "node=\"rp_prismatic_retroreflector_bsdf\" bsdf=\"R\" nodegroup=\"pbr\"\n"
-            "           doc=\"" + xml_escape(kNodeDoc) + "\">\n";
+            "           doc=\"" +
+            xml_escape(kNodeDoc) + "\">\n";
     std::string params; // GLSL parameter list of the MaterialX function, in nodedef order
     std::string args;   // the same names, passed on to the entry point
 #define RP_FLOAT(name, def, lo, hi, doc)                                                           \
-    defs += "    <input name=\"" #name "\" type=\"float\" value=\"" + mtlx_num(def) +             \
-            "\" uimin=\"" + mtlx_num(lo) + "\" uimax=\"" + mtlx_num(hi) + "\"\n           doc=\"" +   \
-            xml_escape(doc) + "\"/>\n";                                                           \
-    params += ", float " #name;                                                                     \
+    defs += "    <input name=\"" #name "\" type=\"float\" value=\"" + mtlx_num(def) +              \
+            "\" uimin=\"" + mtlx_num(lo) + "\" uimax=\"" + mtlx_num(hi) +                          \
+            "\"\n           doc=\"" + xml_escape(doc) + "\"/>\n";                                  \
+    params += ", float " #name;                                                                    \
     args += #name ", ";
 #define RP_COLOR(name, r, g, b, doc)                                                               \
     defs += "    <input name=\"" #name "\" type=\"color3\" value=\"" + mtlx_num(r) + ", " +        \
             mtlx_num(g) + ", " + mtlx_num(b) +                                                     \
             "\" uimin=\"0, 0, 0\" uimax=\"1, 1, 1\"\n           doc=\"" + xml_escape(doc) +        \
-            "\"/>\n";                                                                             \
-    params += ", vec3 " #name;                                                                      \
+            "\"/>\n";                                                                              \
+    params += ", vec3 " #name;                                                                     \
     args += #name ", ";
 #define RP_ENUM(name, def, values, doc)                                                            \
     {                                                                                              \
         std::vector<std::string> items;                                                            \
         std::stringstream ss(values);                                                              \
         std::string item;                                                                          \
-        while (std::getline(ss, item, ',')) items.push_back(item);                                 \
+        while (std::getline(ss, item, ','))                                                        \
+            items.push_back(item);                                                                 \
         defs += "    <input name=\"" #name "\" type=\"string\" value=\"" + items.at(def) +         \
-                "\" enum=\"" values "\" uniform=\"true\"\n           doc=\"" + xml_escape(doc) +  \
-                "\"/>\n";                                                                         \
+                "\" enum=\"" values "\" uniform=\"true\"\n           doc=\"" + xml_escape(doc) +   \
+                "\"/>\n";                                                                          \
     }                                                                                              \
-    params += ", int " #name;                                                                       \
+    params += ", int " #name;                                                                      \
     args += #name ", ";
 #define RP_VECTOR(name, x, y, z, geomprop, doc)                                                    \
     defs += "    <input name=\"" #name "\" type=\"vector3\" defaultgeomprop=\"" geomprop           \
-            "\"\n           doc=\"" + xml_escape(doc) + "\"/>\n";                                  \
-    params += ", vec3 " #name;                                                                      \
+            "\"\n           doc=\"" +                                                              \
+            xml_escape(doc) + "\"/>\n";                                                            \
+    params += ", vec3 " #name;                                                                     \
     args += #name ", ";
 #define RP_BOOL(name, def, doc)                                                                    \
-    defs += "    <input name=\"" #name "\" type=\"boolean\" value=\"" +                          \
-            std::string(def ? "true" : "false") + "\" uniform=\"true\"\n           doc=\"" +      \
-            xml_escape(doc) + "\"/>\n";                                                           \
-    params += ", bool " #name;                                                                      \
+    defs += "    <input name=\"" #name "\" type=\"boolean\" value=\"" +                            \
+            std::string(def ? "true" : "false") + "\" uniform=\"true\"\n           doc=\"" +       \
+            xml_escape(doc) + "\"/>\n";                                                            \
+    params += ", bool " #name;                                                                     \
     args += #name ", ";
 #include "prismatic_retroreflector_params.def"
 #undef RP_FLOAT
@@ -480,11 +489,12 @@ std::vector<std::pair<std::string, std::string>> generate_materialx(const std::s
     defs += "    <output name=\"out\" type=\"BSDF\"/>\n  </nodedef>\n</materialx>\n";
 
     std::string impl = header;
-    impl += "  <implementation name=\"IM_rp_prismatic_retroreflector_bsdf_genglsl\"\n"
-            "                  nodedef=\"ND_rp_prismatic_retroreflector_bsdf\"\n"
-            "                  file=\"rp_prismatic_retroreflector_bsdf.glsl\"\n"
-            "                  function=\"mx_rp_prismatic_retroreflector_bsdf\" target=\"genglsl\"/>\n"
-            "</materialx>\n";
+    impl +=
+        "  <implementation name=\"IM_rp_prismatic_retroreflector_bsdf_genglsl\"\n"
+        "                  nodedef=\"ND_rp_prismatic_retroreflector_bsdf\"\n"
+        "                  file=\"rp_prismatic_retroreflector_bsdf.glsl\"\n"
+        "                  function=\"mx_rp_prismatic_retroreflector_bsdf\" target=\"genglsl\"/>\n"
+        "</materialx>\n";
 
     Variant full = standard_variants().front();
     // MaterialX's closure types and its microfacet helpers (Fresnel data, forward-facing
@@ -492,63 +502,71 @@ std::vector<std::pair<std::string, std::string>> generate_materialx(const std::s
     std::string glsl = "#include \"libraries/pbrlib/genglsl/lib/mx_closure_type.glsl\"\n"
                        "#include \"libraries/pbrlib/genglsl/lib/mx_microfacet_specular.glsl\"\n\n" +
                        generate_library(full, sourceDir);
-    glsl += "\n// ---- MaterialX genglsl closure (1.39.3 and later signature) --------------------------\n"
-            "//\n"
-            "// REFLECTION: per light, response = f(L, V) (N.L) occlusion, f including `weight`.\n"
-            "// INDIRECT: environment light approximated per lobe from the lobe albedo estimates of\n"
-            "// rp_estimates_at (their error against the exact albedo is measured by\n"
-            "// tests/test_physics.cpp): the surface lobe by MaterialX's pre-integrated GGX\n"
-            "// environment radiance at roughness alpha (Beckmann and GGX lobes of equal alpha\n"
-            "// are alike near their peak), the retro lobe by the environment radiance around V,\n"
-            "// the direction the light came from (a GGX lobe about N = V of alpha_o / 2: a\n"
-            "// reflected direction spreads twice as wide as the normals), and the diffuse lobe\n"
-            "// by the irradiance. Opaque: throughput 0. The normal faces the viewer, as in\n"
-            "// MaterialX's other BSDFs.\n"
-            "void mx_rp_prismatic_retroreflector_bsdf(ClosureData closureData" +
-            params +
-            ", inout BSDF bsdf)\n"
-            "{\n"
-            "    bsdf.throughput = vec3(0.0);\n"
-            "    vec3 V = closureData.V;\n"
-            "    vec3 N = mx_forward_facing_normal(normal, V);\n"
-            "    if (closureData.closureType == CLOSURE_TYPE_REFLECTION)\n"
-            "    {\n"
-            "        vec3 L = closureData.L;\n"
-            "        vec3 surface;\n"
-            "        vec3 retro;\n"
-            "        vec3 diffuse;\n"
-            "        float pdf;\n"
-            "        rp_prismatic_retroreflector_eval(" + args.substr(0, args.find("normal, ")) +
-            "N, tangent, L, V, surface, retro, diffuse, pdf);\n"
-            "        vec3 fN;\n"
-            "        vec3 fT;\n"
-            "        vec3 fB;\n"
-            "        rp_make_frame(N, tangent, fN, fT, fB);\n"
-            "        float NdotL = max(dot(fN, L), 0.0);\n"
-            "        bsdf.response = (surface + retro + diffuse) * NdotL * closureData.occlusion;\n"
-            "    }\n"
-            "    else if (closureData.closureType == CLOSURE_TYPE_INDIRECT)\n"
-            "    {\n"
-            "        vec3 albedoSurface;\n"
-            "        vec3 albedoRetro;\n"
-            "        vec3 albedoDiffuse;\n"
-            "        float alphaO;\n"
-            "        rp_prismatic_retroreflector_estimates(" + args.substr(0, args.find("normal, ")) +
-            "N, tangent, V, albedoSurface, albedoRetro, albedoDiffuse, alphaO);\n"
-            "        float ks = rp_sanitize(specular, 0.0, 1.0, 1.0);\n"
-            "        float w = rp_sanitize(weight, 0.0, 1.0, 1.0);\n"
-            "        float alphaS = clamp(roughness, M_FLOAT_EPS, 1.0);\n"
-            "        // mx_environment_radiance applies the dielectric's Fresnel itself.\n"
-            "        vec3 Ls = ks > 0.0 ? mx_environment_radiance(N, V, tangent, vec2(alphaS), 0,\n"
-            "                                   mx_init_fresnel_dielectric(ior, 0.0, 1.0)) * ks : vec3(0.0);\n"
-            "        vec3 X = abs(V.z) < 0.999 ? normalize(cross(V, vec3(0.0, 0.0, 1.0))) : vec3(1.0, 0.0, 0.0);\n"
-            "        float alphaR = clamp(0.5 * alphaO, M_FLOAT_EPS, 1.0);\n"
-            "        vec3 Lr = mx_environment_radiance(V, V, X, vec2(alphaR), 0,\n"
-            "                      mx_init_fresnel_schlick(vec3(1.0), vec3(1.0), vec3(1.0), 5.0, 0.0, 1.0));\n"
-            "        vec3 Ld = mx_environment_irradiance(N);\n"
-            "        bsdf.response = w * (Ls + Lr * albedoRetro + Ld * albedoDiffuse) * closureData.occlusion;\n"
-            "    }\n"
-            "}\n";
+    glsl +=
+        "\n// ---- MaterialX genglsl closure (1.39.3 and later signature) "
+        "--------------------------\n"
+        "//\n"
+        "// REFLECTION: per light, response = f(L, V) (N.L) occlusion, f including `weight`.\n"
+        "// INDIRECT: environment light approximated per lobe from the lobe albedo estimates of\n"
+        "// rp_estimates_at (their error against the exact albedo is measured by\n"
+        "// tests/test_physics.cpp): the surface lobe by MaterialX's pre-integrated GGX\n"
+        "// environment radiance at roughness alpha (Beckmann and GGX lobes of equal alpha\n"
+        "// are alike near their peak), the retro lobe by the environment radiance around V,\n"
+        "// the direction the light came from (a GGX lobe about N = V of alpha_o / 2: a\n"
+        "// reflected direction spreads twice as wide as the normals), and the diffuse lobe\n"
+        "// by the irradiance. Opaque: throughput 0. The normal faces the viewer, as in\n"
+        "// MaterialX's other BSDFs.\n"
+        "void mx_rp_prismatic_retroreflector_bsdf(ClosureData closureData" +
+        params +
+        ", inout BSDF bsdf)\n"
+        "{\n"
+        "    bsdf.throughput = vec3(0.0);\n"
+        "    vec3 V = closureData.V;\n"
+        "    vec3 N = mx_forward_facing_normal(normal, V);\n"
+        "    if (closureData.closureType == CLOSURE_TYPE_REFLECTION)\n"
+        "    {\n"
+        "        vec3 L = closureData.L;\n"
+        "        vec3 surface;\n"
+        "        vec3 retro;\n"
+        "        vec3 diffuse;\n"
+        "        float pdf;\n"
+        "        rp_prismatic_retroreflector_eval(" +
+        args.substr(0, args.find("normal, ")) +
+        "N, tangent, L, V, surface, retro, diffuse, pdf);\n"
+        "        vec3 fN;\n"
+        "        vec3 fT;\n"
+        "        vec3 fB;\n"
+        "        rp_make_frame(N, tangent, fN, fT, fB);\n"
+        "        float NdotL = max(dot(fN, L), 0.0);\n"
+        "        bsdf.response = (surface + retro + diffuse) * NdotL * closureData.occlusion;\n"
+        "    }\n"
+        "    else if (closureData.closureType == CLOSURE_TYPE_INDIRECT)\n"
+        "    {\n"
+        "        vec3 albedoSurface;\n"
+        "        vec3 albedoRetro;\n"
+        "        vec3 albedoDiffuse;\n"
+        "        float alphaO;\n"
+        "        rp_prismatic_retroreflector_estimates(" +
+        args.substr(0, args.find("normal, ")) +
+        "N, tangent, V, albedoSurface, albedoRetro, albedoDiffuse, alphaO);\n"
+        "        float ks = rp_sanitize(specular, 0.0, 1.0, 1.0);\n"
+        "        float w = rp_sanitize(weight, 0.0, 1.0, 1.0);\n"
+        "        float alphaS = clamp(roughness, M_FLOAT_EPS, 1.0);\n"
+        "        // mx_environment_radiance applies the dielectric's Fresnel itself.\n"
+        "        vec3 Ls = ks > 0.0 ? mx_environment_radiance(N, V, tangent, vec2(alphaS), 0,\n"
+        "                                   mx_init_fresnel_dielectric(ior, 0.0, 1.0)) * ks : "
+        "vec3(0.0);\n"
+        "        vec3 X = abs(V.z) < 0.999 ? normalize(cross(V, vec3(0.0, 0.0, 1.0))) : vec3(1.0, "
+        "0.0, 0.0);\n"
+        "        float alphaR = clamp(0.5 * alphaO, M_FLOAT_EPS, 1.0);\n"
+        "        vec3 Lr = mx_environment_radiance(V, V, X, vec2(alphaR), 0,\n"
+        "                      mx_init_fresnel_schlick(vec3(1.0), vec3(1.0), vec3(1.0), 5.0, 0.0, "
+        "1.0));\n"
+        "        vec3 Ld = mx_environment_irradiance(N);\n"
+        "        bsdf.response = w * (Ls + Lr * albedoRetro + Ld * albedoDiffuse) * "
+        "closureData.occlusion;\n"
+        "    }\n"
+        "}\n";
     return {{"materialx/rp_pbrlib/rp_pbrlib_defs.mtlx", defs},
             {"materialx/rp_pbrlib/genglsl/rp_pbrlib_genglsl_impl.mtlx", impl},
             {"materialx/rp_pbrlib/genglsl/rp_prismatic_retroreflector_bsdf.glsl", glsl}};

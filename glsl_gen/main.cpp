@@ -26,7 +26,8 @@ int main(int argc, char** argv) {
         for (const auto& v : retroprism::glsl::standard_variants())
             outputs.push_back({"glsl_gen/generated/" + v.name + ".glsl",
                                retroprism::glsl::generate_library(v, root)});
-        for (auto& f : retroprism::glsl::generate_materialx(root)) outputs.push_back(f);
+        for (auto& f : retroprism::glsl::generate_materialx(root))
+            outputs.push_back(f);
         files = outputs.size();
         for (const auto& [rel, text] : outputs) {
             const std::string path = root + "/" + rel;

@@ -16,9 +16,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The node's uniforms in MaterialX's shader are "<node>_<input>".
-const char* const kNode = "rp_query_bsdf";
-
 const char* const kDocument =
     "<?xml version=\"1.0\"?>\n"
     "<materialx version=\"1.39\">\n"
@@ -48,48 +45,62 @@ std::string read_text(const fs::path& p) {
 
 using Mat4 = std::array<float, 16>; // column-major, as OpenGL reads it
 
-Mat4 identity() { return {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}; }
+Mat4 identity() {
+    return {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+}
 
 Mat4 multiply(const Mat4& a, const Mat4& b) {
     Mat4 r{};
     for (int c = 0; c < 4; ++c)
         for (int row = 0; row < 4; ++row) {
             float s = 0;
-            for (int k = 0; k < 4; ++k) s += a[size_t(k * 4 + row)] * b[size_t(c * 4 + k)];
+            for (int k = 0; k < 4; ++k)
+                s += a[size_t(k * 4 + row)] * b[size_t(c * 4 + k)];
             r[size_t(c * 4 + row)] = s;
         }
     return r;
 }
 
-glm::dvec3 vec(const Vec3d& v) { return glm::dvec3(v[0], v[1], v[2]); }
+glm::dvec3 vec(const Vec3d& v) {
+    return glm::dvec3(v[0], v[1], v[2]);
+}
 
 } // namespace
 
-MaterialXRunner::MaterialXRunner(const std::string& sourceDir) {
+MaterialXRunner::MaterialXRunner(const std::string& sourceDir, const std::string& document,
+                                 const std::string& material, const std::string& node)
+    : node_(node) {
     const fs::path tool = fs::path(sourceDir) / "materialx" / "tools" / "mx.cjs";
     if (!fs::exists(fs::path(sourceDir) / "materialx" / "tools" / "node_modules" / "@needle-tools"))
         throw GlError("MaterialX: materialx/tools is not installed (run scripts/setup-debian.sh, "
                       "which runs npm ci there)");
-    const fs::path dir = fs::temp_directory_path() / ("retroprism_mx_" + std::to_string(::getpid()));
+    const fs::path dir =
+        fs::temp_directory_path() / ("retroprism_mx_" + std::to_string(::getpid()));
     fs::create_directories(dir);
-    std::ofstream(dir / "rp_query.mtlx") << kDocument;
-    const std::string cmd = "node '" + tool.string() + "' generate '" + (dir / "rp_query.mtlx").string() +
-                            "' '" + dir.string() + "' 2>&1";
+    fs::path doc = document;
+    if (document.empty()) {
+        doc = dir / "rp_query.mtlx";
+        std::ofstream(doc) << kDocument;
+    }
+    const std::string cmd =
+        "node '" + tool.string() + "' generate '" + doc.string() + "' '" + dir.string() + "' 2>&1";
     FILE* p = popen(cmd.c_str(), "r");
     if (!p) throw GlError("MaterialX: cannot run node");
     std::string out;
     char buf[4096];
     size_t n;
-    while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
+    while ((n = fread(buf, 1, sizeof buf, p)) > 0)
+        out.append(buf, n);
     int st = pclose(p);
     if (!WIFEXITED(st) || WEXITSTATUS(st) != 0)
         throw GlError("MaterialX: shader generation failed (" + cmd + "):\n" + out);
-    vertex_ = read_text(dir / "rp_query.glsl.vert");
-    fragment_ = read_text(dir / "rp_query.glsl.frag");
+    vertex_ = read_text(dir / (material + ".glsl.vert"));
+    fragment_ = read_text(dir / (material + ".glsl.frag"));
     fs::remove_all(dir);
 
     program_ = build_program({{GL_VERTEX_SHADER, vertex_}, {GL_FRAGMENT_SHADER, fragment_}});
-    posProgram_ = build_program({{GL_VERTEX_SHADER, vertex_}, {GL_FRAGMENT_SHADER, kPositionFragment}});
+    posProgram_ =
+        build_program({{GL_VERTEX_SHADER, vertex_}, {GL_FRAGMENT_SHADER, kPositionFragment}});
     glGenVertexArrays(1, &vao_);
     glGenBuffers(1, &vbo_);
     glGenFramebuffers(1, &fbo_);
@@ -108,7 +119,8 @@ MaterialXRunner::~MaterialXRunner() {
 
 void MaterialXRunner::set_material(const Params& p) {
     auto loc = [&](const std::string& input) {
-        return glGetUniformLocation(program_, (std::string(kNode) + "_" + input).c_str());
+        // The node's uniforms in MaterialX's shader are "<node>_<input>".
+        return glGetUniformLocation(program_, (node_ + "_" + input).c_str());
     };
 #define RP_FLOAT(name, def, lo, hi, doc) glUniform1f(loc(#name), float(p.name));
 #define RP_COLOR(name, r, g, b, doc)                                                               \
@@ -141,7 +153,8 @@ void upload_quad(unsigned program, unsigned vao, unsigned vbo, const Vec3d& n, c
     }
     glBindVertexArray(vao);
     glBindBuffer(GL_ARRAY_BUFFER, vbo);
-    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(data.size() * sizeof(float)), data.data(), GL_STATIC_DRAW);
+    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(data.size() * sizeof(float)), data.data(),
+                 GL_STATIC_DRAW);
     const char* names[3] = {"i_position", "i_normal", "i_tangent"};
     for (int a = 0; a < 3; ++a) {
         GLint location = glGetAttribLocation(program, names[a]);
@@ -167,11 +180,13 @@ void target(unsigned fbo, unsigned tex, int w, int h) {
 
 void set_light(unsigned program, int i, const MxLight& l) {
     auto loc = [&](const char* field) {
-        return glGetUniformLocation(program, ("u_lightData[" + std::to_string(i) + "]." + field).c_str());
+        return glGetUniformLocation(program,
+                                    ("u_lightData[" + std::to_string(i) + "]." + field).c_str());
     };
     // Light types as mx.cjs binds them: 1 directional, 2 point.
     glUniform1i(loc("type"), l.point ? 2 : 1);
-    glUniform3f(loc("direction"), float(l.direction[0]), float(l.direction[1]), float(l.direction[2]));
+    glUniform3f(loc("direction"), float(l.direction[0]), float(l.direction[1]),
+                float(l.direction[2]));
     glUniform3f(loc("position"), float(l.position[0]), float(l.position[1]), float(l.position[2]));
     glUniform3f(loc("color"), float(l.color[0]), float(l.color[1]), float(l.color[2]));
     glUniform1f(loc("intensity"), float(l.intensity));
@@ -181,7 +196,8 @@ void set_light(unsigned program, int i, const MxLight& l) {
 void set_matrices(unsigned program, const Mat4& viewProjection) {
     const Mat4 id = identity();
     glUniformMatrix4fv(glGetUniformLocation(program, "u_worldMatrix"), 1, GL_FALSE, id.data());
-    glUniformMatrix4fv(glGetUniformLocation(program, "u_worldInverseTransposeMatrix"), 1, GL_FALSE, id.data());
+    glUniformMatrix4fv(glGetUniformLocation(program, "u_worldInverseTransposeMatrix"), 1, GL_FALSE,
+                       id.data());
     glUniformMatrix4fv(glGetUniformLocation(program, "u_viewProjectionMatrix"), 1, GL_FALSE,
                        viewProjection.data());
 }
@@ -217,8 +233,8 @@ std::vector<Result> MaterialXRunner::evaluate(const Params& p,
             MxLight light;
             light.direction = {-wi[0], -wi[1], -wi[2]};
             set_light(program_, 0, light);
-            glUniform3f(glGetUniformLocation(program_, "u_viewPosition"), float(wo[0]), float(wo[1]),
-                        float(wo[2]));
+            glUniform3f(glGetUniformLocation(program_, "u_viewPosition"), float(wo[0]),
+                        float(wo[1]), float(wo[2]));
             glViewport(GLint(k % size_t(w)), GLint(k / size_t(w)), 1, 1);
             glDrawArrays(GL_TRIANGLES, 0, 6);
         }
@@ -226,22 +242,27 @@ std::vector<Result> MaterialXRunner::evaluate(const Params& p,
         for (size_t k = 0; k < pairs.size(); ++k) {
             // response = f (N.L) with N facing the viewer (MaterialX's convention) and the
             // frame normal the node builds from it.
-            glm::dvec3 wiV = glm::normalize(vec(pairs[k][0])), woV = glm::normalize(vec(pairs[k][1]));
+            glm::dvec3 wiV = glm::normalize(vec(pairs[k][0])),
+                       woV = glm::normalize(vec(pairs[k][1]));
             glm::dvec3 n = vec(s.normal);
             if (glm::dot(n, woV) < 0) n = -n;
             const double cosI = std::max(glm::dot(n, wiV), 0.0);
-            std::array<float, 3>& out = lobe == 0 ? results[k].surface : lobe == 1 ? results[k].retro : results[k].diffuse;
+            std::array<float, 3>& out = lobe == 0   ? results[k].surface
+                                        : lobe == 1 ? results[k].retro
+                                                    : results[k].diffuse;
             for (int c = 0; c < 3; ++c)
                 out[size_t(c)] = cosI > 0 ? float(double(pixels[4 * k + size_t(c)]) / cosI) : 0.0f;
         }
     }
-    for (Result& r : results) r.pdf = std::nanf("");
+    for (Result& r : results)
+        r.pdf = std::nanf("");
     GLenum err = glGetError();
-    if (err != GL_NO_ERROR) throw GlError("OpenGL: error " + std::to_string(err) + " while rendering");
+    if (err != GL_NO_ERROR)
+        throw GlError("OpenGL: error " + std::to_string(err) + " while rendering");
     return results;
 }
 
-MxImage MaterialXRunner::render(const Params& p, int w, int h, const Vec3d& eye, double fovDeg,
+MxImage MaterialXRunner::render(int w, int h, const Vec3d& eye, double fovDeg,
                                 const std::vector<MxLight>& lights) {
     context_.use();
     MxImage img;
@@ -251,24 +272,52 @@ MxImage MaterialXRunner::render(const Params& p, int w, int h, const Vec3d& eye,
     glm::dvec3 e = vec(eye), f = glm::normalize(-e);
     glm::dvec3 up = std::abs(f.y) > 0.99 ? glm::dvec3(0, 0, 1) : glm::dvec3(0, 1, 0);
     glm::dvec3 r = glm::normalize(glm::cross(f, up)), u = glm::cross(r, f);
-    Mat4 view = {float(r.x), float(u.x), float(-f.x), 0, float(r.y), float(u.y), float(-f.y), 0,
-                 float(r.z), float(u.z), float(-f.z), 0, float(-glm::dot(r, e)), float(-glm::dot(u, e)),
-                 float(glm::dot(f, e)), 1};
+    Mat4 view = {float(r.x),
+                 float(u.x),
+                 float(-f.x),
+                 0,
+                 float(r.y),
+                 float(u.y),
+                 float(-f.y),
+                 0,
+                 float(r.z),
+                 float(u.z),
+                 float(-f.z),
+                 0,
+                 float(-glm::dot(r, e)),
+                 float(-glm::dot(u, e)),
+                 float(glm::dot(f, e)),
+                 1};
     const double nearZ = 0.01, farZ = 100.0, t = 1.0 / std::tan(fovDeg * M_PI / 360.0);
-    Mat4 proj = {float(t * h / w), 0, 0, 0, 0, float(t), 0, 0, 0, 0, float((farZ + nearZ) / (nearZ - farZ)), -1,
-                 0, 0, float(2 * farZ * nearZ / (nearZ - farZ)), 0};
+    Mat4 proj = {float(t * h / w),
+                 0,
+                 0,
+                 0,
+                 0,
+                 float(t),
+                 0,
+                 0,
+                 0,
+                 0,
+                 float((farZ + nearZ) / (nearZ - farZ)),
+                 -1,
+                 0,
+                 0,
+                 float(2 * farZ * nearZ / (nearZ - farZ)),
+                 0};
     const Mat4 vp = multiply(proj, view);
-    const Params s = sanitize(p);
     for (int pass = 0; pass < 2; ++pass) {
         const unsigned prog = pass == 0 ? program_ : posProgram_;
         glUseProgram(prog);
         upload_quad(prog, vao_, vbo_, {0, 0, 1}, {1, 0, 0});
         set_matrices(prog, vp);
         if (pass == 0) {
-            set_material(s);
-            glUniform3f(glGetUniformLocation(prog, "u_viewPosition"), float(eye[0]), float(eye[1]), float(eye[2]));
+            glUniform1f(glGetUniformLocation(prog, "u_envLightIntensity"), 0.0f);
+            glUniform3f(glGetUniformLocation(prog, "u_viewPosition"), float(eye[0]), float(eye[1]),
+                        float(eye[2]));
             glUniform1i(glGetUniformLocation(prog, "u_numActiveLightSources"), int(lights.size()));
-            for (size_t i = 0; i < lights.size(); ++i) set_light(prog, int(i), lights[i]);
+            for (size_t i = 0; i < lights.size(); ++i)
+                set_light(prog, int(i), lights[i]);
         }
         target(fbo_, colorTex_, w, h);
         glViewport(0, 0, w, h);
@@ -281,11 +330,13 @@ MxImage MaterialXRunner::render(const Params& p, int w, int h, const Vec3d& eye,
         } else {
             dst.resize(size_t(w) * size_t(h) * 3);
             for (size_t i = 0; i < size_t(w) * size_t(h); ++i)
-                for (int c = 0; c < 3; ++c) dst[3 * i + size_t(c)] = px[4 * i + size_t(c)];
+                for (int c = 0; c < 3; ++c)
+                    dst[3 * i + size_t(c)] = px[4 * i + size_t(c)];
         }
     }
     GLenum err = glGetError();
-    if (err != GL_NO_ERROR) throw GlError("OpenGL: error " + std::to_string(err) + " while rendering");
+    if (err != GL_NO_ERROR)
+        throw GlError("OpenGL: error " + std::to_string(err) + " while rendering");
     return img;
 }
 

@@ -31,10 +31,14 @@ struct MxImage {
 
 class MaterialXRunner {
   public:
-    // Generates the shaders for a document of one node with MaterialX (`node` must be on the
-    // PATH and materialx/tools installed with npm; the error says so otherwise) and compiles
-    // them. `source_dir` is the project root.
-    explicit MaterialXRunner(const std::string& source_dir);
+    // Generates the shaders of a material with MaterialX (`node` must be on the PATH and
+    // materialx/tools installed with npm; the error says so otherwise) and compiles them.
+    // `source_dir` is the project root. Without a document, a document of one node with its
+    // default inputs is used (material "rp_query", node "rp_query_bsdf"); otherwise `material`
+    // of `document`, whose node is `node`.
+    explicit MaterialXRunner(const std::string& source_dir, const std::string& document = "",
+                             const std::string& material = "rp_query",
+                             const std::string& node = "rp_query_bsdf");
     ~MaterialXRunner();
     MaterialXRunner(const MaterialXRunner&) = delete;
     MaterialXRunner& operator=(const MaterialXRunner&) = delete;
@@ -46,8 +50,9 @@ class MaterialXRunner {
     std::vector<Result> evaluate(const Params& p, const std::vector<std::array<Vec3d, 2>>& pairs);
 
     // A w x h image of the unit square z = 0 ([-1, 1]^2, normal +z) seen by a pinhole camera at
-    // `eye` looking at the origin (vertical field of view fovDeg), lit by `lights`.
-    MxImage render(const Params& p, int w, int h, const Vec3d& eye, double fovDeg,
+    // `eye` looking at the origin (vertical field of view fovDeg), lit by `lights`, with the
+    // node's inputs as the document gives them.
+    MxImage render(int w, int h, const Vec3d& eye, double fovDeg,
                    const std::vector<MxLight>& lights);
 
     const std::string& fragment_source() const { return fragment_; }
@@ -55,6 +60,7 @@ class MaterialXRunner {
   private:
     void set_material(const Params& p);
     EglContext context_;
+    std::string node_;
     std::string vertex_, fragment_;
     unsigned program_ = 0;
     unsigned vao_ = 0, vbo_ = 0, fbo_ = 0, colorTex_ = 0, posProgram_ = 0;
