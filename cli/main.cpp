@@ -30,6 +30,7 @@ const char* kUsage =
     "  demo [--out DIR] [--materials DIR]  BRDF slice plots of the bundled example materials\n"
     "  params                              the node's inputs as a Markdown table\n"
     "  check [--backend NAME]              cross-check backends against cpp-double\n"
+    "  export --out DIR                    the MaterialX library and GLSL for other pipelines\n"
     "\n"
     "`retroprism COMMAND --help` describes a command.\n";
 
@@ -216,6 +217,7 @@ int main(int argc, const char** argv) {
         if (cmd == "demo") return cmd_demo(argc - 1, argv + 1);
         if (cmd == "params") return cmd_params(argc - 1, argv + 1);
         if (cmd == "check") return cmd_check(argc - 1, argv + 1);
+        if (cmd == "export") return cmd_export(argc - 1, argv + 1);
         if (cmd == "simulate") return cmd_simulate(argc - 1, argv + 1);
         if (cmd == "render") return cmd_render(argc - 1, argv + 1);
         if (cmd == "ra") return cmd_ra(argc - 1, argv + 1);

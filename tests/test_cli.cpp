@@ -137,7 +137,8 @@ TEST_CASE("Bad queries and materials are rejected, naming what is wrong", "[cli]
     Run backend =
         run("eval --backend vulkan " + write_temp("ok.json", R"({"samples": []})").string());
     CHECK(backend.status != 0);
-    CHECK(contains(backend.output, "unknown backend (backends: cpp-double, cpp-float, glsl)"));
+    CHECK(contains(backend.output,
+                   "unknown backend (backends: cpp-double, cpp-float, glsl, materialx)"));
 }
 
 TEST_CASE("era and albedo commands", "[cli]") {
@@ -217,4 +218,32 @@ TEST_CASE("The README's inputs table is the parameter table", "[cli]") {
     Run r = run("params");
     CHECK(r.status == 0);
     CHECK(r.output == params_markdown());
+}
+
+TEST_CASE("export writes the MaterialX library and the GLSL as checked in", "[cli]") {
+    const fs::path out = fs::temp_directory_path() / "retroprism_test_export";
+    fs::remove_all(out);
+    Run r = run("export --out " + out.string());
+    REQUIRE(r.status == 0);
+    auto read = [](const fs::path& p) {
+        std::ifstream in(p, std::ios::binary);
+        return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    };
+    const fs::path src = RP_SOURCE_DIR;
+    int compared = 0;
+    for (const auto& e : fs::recursive_directory_iterator(src / "materialx" / "rp_pbrlib")) {
+        if (!e.is_regular_file()) continue;
+        const fs::path rel = fs::relative(e.path(), src / "materialx");
+        CHECK(read(out / rel) == read(e.path()));
+        ++compared;
+    }
+    for (const auto& e : fs::directory_iterator(src / "glsl_gen" / "generated")) {
+        CHECK(read(out / "glsl" / e.path().filename()) == read(e.path()));
+        ++compared;
+    }
+    CHECK(compared >= 19);
+    CHECK(fs::exists(out / "README.md"));
+    Run bad = run("export --out /proc/retroprism");
+    CHECK(bad.status != 0);
+    CHECK(contains(bad.output, "--out /proc/retroprism: cannot create the folder"));
 }
