@@ -12,6 +12,7 @@
 #include "check.h"
 #include "commands.h"
 #include "query.h"
+#include "stress.h"
 
 using namespace retroprism;
 using nlohmann::json;
@@ -29,7 +30,7 @@ const char* kUsage =
     "                                      per-lobe and total directional albedo\n"
     "  demo [--out DIR] [--materials DIR]  BRDF slice plots of the bundled example materials\n"
     "  params                              the node's inputs as a Markdown table\n"
-    "  check [--backend NAME]              cross-check backends against cpp-double\n"
+    "  check [--backend NAME] [--stress]   cross-check backends against cpp-double\n"
     "  export --out DIR                    the MaterialX library and GLSL for other pipelines\n"
     "\n"
     "`retroprism COMMAND --help` describes a command.\n";
@@ -159,6 +160,8 @@ int cmd_check(int argc, const char** argv) {
              "deterministic query set, under the tolerance contract of cli/check.h")
         .usage("retroprism check [--backend NAME]");
     ap.arg("--backend NAME").help("one backend only (default: all)");
+    ap.arg("--stress").help("the adversarial sweep instead: counts of NaN, Inf, negative values "
+                            "and sample/pdf inconsistencies").store_true();
     int status = 0;
     if (!parse(ap, argc, argv, status)) return status;
     std::vector<std::string> backends = backend_names();
@@ -168,6 +171,7 @@ int cmd_check(int argc, const char** argv) {
             throw InputError("--backend " + only + ": unknown backend");
         backends = {only};
     }
+    if (ap["stress"].get<int>()) return run_stress(backends);
     const ToleranceContract contract;
     std::printf("tolerance contract: per value %.0e relative (floor %.0e of the lobe's peak, plus "
                 "%.0f ulps of input sensitivity), at most %.1f%% of samples above it, none above "
