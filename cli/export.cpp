@@ -81,12 +81,8 @@ int cmd_export(int argc, const char** argv) {
              "variants, for external pipelines")
         .usage("retroprism export --out DIR");
     ap.arg("--out DIR").help("folder to write (created if missing)");
-    ap.exit_on_error(false);
-    if (ap.parse_args(argc, argv) < 0) {
-        std::fprintf(stderr, "retroprism export: %s\n", ap.geterror().c_str());
-        return 2;
-    }
-    if (ap["help"].get<int>()) return 0;
+    int status = 0;
+    if (!parse_command_args(ap, argc, argv, status)) return status;
     const std::string out = ap["out"].get<std::string>();
     if (out.empty()) throw InputError("export: --out DIR is required");
     const fs::path dir = out;

@@ -35,9 +35,19 @@ const char* kUsage =
     "\n"
     "`retroprism COMMAND --help` describes a command.\n";
 
-// Parses a subcommand's options; returns false (status in `status`) when it printed help or
-// an error.
-bool parse(OIIO::ArgParse& ap, int argc, const char** argv, int& status) {
+double parse_number(const std::string& text, const std::string& option) {
+    char* end = nullptr;
+    double v = std::strtod(text.c_str(), &end);
+    if (text.empty() || *end != '\0' || !std::isfinite(v))
+        throw InputError(option + " " + text + ": expected a finite number");
+    return v;
+}
+
+} // namespace
+
+namespace retroprism {
+
+bool parse_command_args(OIIO::ArgParse& ap, int argc, const char** argv, int& status) {
     ap.exit_on_error(false);
     if (ap.parse_args(argc, argv) < 0) {
         std::fprintf(stderr, "retroprism %s: %s\n", argv[0], ap.geterror().c_str());
@@ -51,18 +61,6 @@ bool parse(OIIO::ArgParse& ap, int argc, const char** argv, int& status) {
     return true;
 }
 
-double parse_number(const std::string& text, const std::string& option) {
-    char* end = nullptr;
-    double v = std::strtod(text.c_str(), &end);
-    if (text.empty() || *end != '\0' || !std::isfinite(v))
-        throw InputError(option + " " + text + ": expected a finite number");
-    return v;
-}
-
-} // namespace
-
-namespace retroprism {
-
 int cmd_eval(int argc, const char** argv) {
     OIIO::ArgParse ap;
     ap.intro("retroprism eval: evaluate the node at direction pairs, answered as JSON on stdout")
@@ -71,7 +69,7 @@ int cmd_eval(int argc, const char** argv) {
     ap.arg("filename").hidden().action([&](OIIO::cspan<const char*> a) { file = a[0]; });
     ap.arg("--backend NAME").help("cpp-double (default) or cpp-float").defaultval("cpp-double");
     int status = 0;
-    if (!parse(ap, argc, argv, status)) return status;
+    if (!parse_command_args(ap, argc, argv, status)) return status;
     if (file.empty()) throw InputError("eval: give a query file, or - for standard input");
     Query q = parse_query(read_json(file), file == "-" ? "<stdin>" : file);
     json answer = answer_query(q, ap["backend"].get<std::string>());
@@ -94,7 +92,7 @@ int cmd_era(int argc, const char** argv) {
         .help("averaged (default), matched_pair or oriented")
         .defaultval("averaged");
     int status = 0;
-    if (!parse(ap, argc, argv, status)) return status;
+    if (!parse_command_args(ap, argc, argv, status)) return status;
     if (ap["theta_t"].get<std::string>().empty())
         throw InputError("era: --theta-t DEG is required");
     double thetaT = parse_number(ap["theta_t"].get<std::string>(), "--theta-t");
@@ -128,7 +126,7 @@ int cmd_albedo(int argc, const char** argv) {
     for (int i = 0; i < argc; ++i)
         if (std::strcmp(argv[i], "--theta-i") != 0) args.push_back(argv[i]);
     int status = 0;
-    if (!parse(ap, int(args.size()), args.data(), status)) return status;
+    if (!parse_command_args(ap, int(args.size()), args.data(), status)) return status;
     if (thetas.empty()) throw InputError("albedo: --theta-i DEG... is required");
     Params p;
     std::string file = ap["material"].get<std::string>();
@@ -160,10 +158,12 @@ int cmd_check(int argc, const char** argv) {
              "deterministic query set, under the tolerance contract of cli/check.h")
         .usage("retroprism check [--backend NAME]");
     ap.arg("--backend NAME").help("one backend only (default: all)");
-    ap.arg("--stress").help("the adversarial sweep instead: counts of NaN, Inf, negative values "
-                            "and sample/pdf inconsistencies").store_true();
+    ap.arg("--stress")
+        .help("the adversarial sweep instead: counts of NaN, Inf, negative values "
+              "and sample/pdf inconsistencies")
+        .store_true();
     int status = 0;
-    if (!parse(ap, argc, argv, status)) return status;
+    if (!parse_command_args(ap, argc, argv, status)) return status;
     std::vector<std::string> backends = backend_names();
     const std::string only = ap["backend"].get<std::string>();
     if (!only.empty()) {
@@ -201,7 +201,7 @@ int cmd_params(int argc, const char** argv) {
     ap.intro("retroprism params: the node's inputs (the parameter table) as a Markdown table")
         .usage("retroprism params");
     int status = 0;
-    if (!parse(ap, argc, argv, status)) return status;
+    if (!parse_command_args(ap, argc, argv, status)) return status;
     std::fputs(params_markdown().c_str(), stdout);
     return 0;
 }
