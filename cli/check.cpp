@@ -46,6 +46,7 @@ std::vector<Params> check_materials() {
                 p.weight = j == 2 ? to_float(0.75) : 1.0;
                 p.retro_lobe = (k / 2) % 2;
                 p.reciprocal = k % 3 == 0;
+                p.fidelity = (k / 3) % 2;
                 if (j == 1) {
                     // A tilted frame: directions are given in the space of normal and tangent.
                     p.normal = float_dir(0.2, -0.1, 1.0);

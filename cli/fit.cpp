@@ -1,13 +1,362 @@
-// Placeholder of `retroprism fit (issue 7)`, being written.
+// fit.cpp: `retroprism fit DATA.dat`: fits the node, and the MaterialX-style retroreflective GGX
+// baseline, to measured BRDF x cos(theta_v) samples in the ALTA text format, and reports both
+// side by side. The model, objective, weighting, instrument blur and optimiser are described in
+// fitting.h; the baseline's exact formula in nodes/baselines.h.
+//
+// Output: a text report (parameters, errors, per-theta_l errors and peak heights, runtime), or
+// with --json exactly {"params": {...}, "rel_rms": x, "log_rms": y, "mrm": {"params": {...},
+// "rel_rms": x, "log_rms": y}} on standard output; `params` is a material JSON the other
+// commands read (inputs not listed keep their defaults). --plot OUT.png writes the in-plane
+// slices of each theta_l: measured samples against both fits, log scale.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
 
+#include <unistd.h>
+
+#include <OpenImageIO/argparse.h>
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
+
+#include <nlohmann/json.hpp>
+
+#include "alta_reader.h"
 #include "commands.h"
+#include "fitting.h"
+#include "plot.h"
+#include "query.h"
+
+namespace fs = std::filesystem;
+// Ordered: the keys print in the documented order (params, rel_rms, log_rms, mrm).
+using json = nlohmann::ordered_json;
 
 namespace retroprism {
 
-int cmd_fit(int, const char**) {
-    std::fprintf(stderr, "retroprism fit: not available yet\n");
-    return 1;
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+json node_json(const NodeFitParams& p) {
+    const Params q = node_params(p);
+    json j = json::object();
+    j["roughness"] = q.roughness;
+    j["ior"] = q.ior;
+    j["specular"] = q.specular;
+    j["retro_color"] = q.retro_color;
+    j["diffuse_color"] = q.diffuse_color;
+    j["prism_reflection"] =
+        enum_values(*find_param("prism_reflection")).at(size_t(p.prism_reflection));
+    return j;
+}
+
+json mrm_json(const baselines::RetroreflectiveGGX& m) {
+    json j = json::object();
+    j["roughness"] = m.roughness;
+    j["ior"] = m.ior;
+    j["specular"] = m.specular;
+    j["color"] = {m.color.x, m.color.y, m.color.z};
+    return j;
+}
+
+// One in-plane slice of a theta_l group: measured samples (signed theta_v, value) and the two
+// fits on a dense grid.
+struct Slice {
+    double thetaDeg = 0;
+    std::vector<double> ms, mv;                              // measured: signed angle (deg), value
+    std::vector<double> s, node, mrm;                        // curves
+    double nodeRel = 0, nodeLog = 0, mrmRel = 0, mrmLog = 0; // the group's errors
+};
+
+std::vector<Slice> slices(const FitData& d, const NodeFit& nf, const MrmFit& mf,
+                          const FitOptions& o) {
+    std::vector<Slice> out;
+    for (size_t g = 0; g < d.group_theta.size(); ++g) {
+        Slice sl;
+        sl.thetaDeg = d.group_theta[g] / kDeg;
+        for (const FitSample& s : d.samples)
+            if (size_t(s.group) == g && std::abs(s.wo.y) < 1e-6) {
+                const double a = std::atan2(s.wo.x, s.wo.z) / kDeg;
+                sl.ms.push_back(a);
+                sl.mv.push_back(s.value);
+            }
+        FitData curve;
+        for (int i = -890; i <= 890; ++i)
+            sl.s.push_back(0.1 * i);
+        for (double peak : {sl.thetaDeg, -sl.thetaDeg})
+            for (double dd = 0.01; dd < 4.0; dd *= 1.3) {
+                sl.s.push_back(peak - dd);
+                sl.s.push_back(peak + dd);
+            }
+        std::sort(sl.s.begin(), sl.s.end());
+        sl.s.erase(
+            std::remove_if(sl.s.begin(), sl.s.end(), [](double a) { return std::abs(a) > 89.0; }),
+            sl.s.end());
+        for (double a : sl.s)
+            add_sample(curve, d.group_theta[g],
+                       glm::dvec3(std::sin(a * kDeg), 0, std::cos(a * kDeg)), 0.0);
+        sl.node = node_values(nf.params, curve, o);
+        sl.mrm = mrm_values(mf.model, curve, o);
+        sl.nodeRel = nf.report.groups[g].rel_rms;
+        sl.nodeLog = nf.report.groups[g].log_rms;
+        sl.mrmRel = mf.report.groups[g].rel_rms;
+        sl.mrmLog = mf.report.groups[g].log_rms;
+        out.push_back(std::move(sl));
+    }
+    return out;
+}
+
+OIIO::ImageBuf comparison_plot(const std::string& file, const std::vector<Slice>& sls,
+                               plot::Text& text) {
+    namespace IBA = OIIO::ImageBufAlgo;
+    using namespace plot;
+    const int panels = std::max<int>(1, int(sls.size()));
+    const int panelW = 600, W = 30 + panels * panelW, H = 700;
+    OIIO::ImageBuf img(OIIO::ImageSpec(W, H, 3, OIIO::TypeDesc::FLOAT));
+    IBA::fill(img, kBackground);
+    double lo = 1e300, hi = -1e300;
+    for (const Slice& sl : sls)
+        for (double v : sl.mv)
+            if (v > 0) {
+                lo = std::min(lo, std::log10(v));
+                hi = std::max(hi, std::log10(v));
+            }
+    if (!(hi >= lo)) lo = -3, hi = 1;
+    const double yMax = std::ceil(hi + 0.05), yMin = std::max(std::floor(lo), yMax - 7.0);
+    const Rgb measured = {0.92f, 0.92f, 0.95f};
+    const Rgb nodeColor = kLobeColor[1], mrmColor = kLobeColor[0];
+    text.draw(img, 30, 36,
+              "fit of " + fs::path(file).filename().string() +
+                  ": in-plane slices of BRDF x cos theta_v [1/sr], measured vs fitted",
+              24, kText);
+    for (int k = 0; k < int(sls.size()); ++k) {
+        const Slice& sl = sls[size_t(k)];
+        const int left = 30 + k * panelW + 60, right = left + panelW - 90, topY = 104, bottom = 536;
+        auto X = [&](double s) {
+            return int(std::lround(left + (s + 90.0) / 180.0 * (right - left)));
+        };
+        auto Y = [&](double ly) {
+            return int(std::lround(bottom - (ly - yMin) / (yMax - yMin) * (bottom - topY)));
+        };
+        const OIIO::ROI clip(left, right + 1, topY, bottom + 1);
+        IBA::render_box(img, left, topY, right, bottom, kPlotBackground, true);
+        for (int dd = int(yMin); dd <= int(yMax); ++dd) {
+            IBA::render_line(img, left, Y(dd), right, Y(dd), kGrid);
+            text.draw(img, left - 8, Y(dd), fmt(dd == 0 ? "%.0f" : "%+.0f", dd), 15, kDimText,
+                      IBA::TextAlignX::Right, IBA::TextAlignY::Center);
+        }
+        for (int a = -90; a <= 90; a += 30) {
+            IBA::render_line(img, X(a), topY, X(a), bottom, kGrid);
+            text.draw(img, X(a), bottom + 20, fmt("%.0f", a), 15, kDimText,
+                      IBA::TextAlignX::Center);
+        }
+        dashed_vline(img, X(sl.thetaDeg), topY, bottom, kLobeColor[1]);
+        dashed_vline(img, X(-sl.thetaDeg), topY, bottom, kLobeColor[0]);
+        text.draw(img, X(sl.thetaDeg) + 4, topY - 6, "retro", 14, kLobeColor[1]);
+        text.draw(img, X(-sl.thetaDeg) - 4, topY - 6, "mirror", 14, kLobeColor[0],
+                  IBA::TextAlignX::Right);
+        IBA::render_box(img, left, topY, right, bottom, kAxis);
+        text.draw(img, (left + right) / 2, topY - 30, fmt("theta_l = %.0f deg", sl.thetaDeg), 20,
+                  kText, IBA::TextAlignX::Center);
+        text.draw(img, (left + right) / 2, bottom + 44, "signed theta_v [deg]  (+: light's side)",
+                  15, kDimText, IBA::TextAlignX::Center);
+        // Curves (pulled to just below the axis when below it), then the measured samples.
+        for (int c = 0; c < 2; ++c) {
+            const std::vector<double>& v = c == 0 ? sl.mrm : sl.node;
+            const double floorY = yMin - 0.5;
+            int px = 0, py = 0;
+            bool have = false;
+            for (size_t i = 0; i < sl.s.size(); ++i) {
+                const double ly = v[i] > 0 ? std::max(std::log10(v[i]), floorY) : floorY;
+                const int x = X(sl.s[i]), y = Y(ly);
+                if (have && (x != px || y != py))
+                    thick_line(img, px, py, x, y, c == 0 ? mrmColor : nodeColor, 2, clip);
+                px = x;
+                py = y;
+                have = true;
+            }
+        }
+        for (size_t i = 0; i < sl.ms.size(); ++i)
+            if (sl.mv[i] > 0) dot(img, X(sl.ms[i]), Y(std::log10(sl.mv[i])), 2, measured, clip);
+        text.draw(img, left, bottom + 74,
+                  fmt("node: rel RMS %.3g", sl.nodeRel) + fmt(", log RMS %.3g", sl.nodeLog), 15,
+                  nodeColor);
+        text.draw(img, left, bottom + 96,
+                  fmt("mrm:  rel RMS %.3g", sl.mrmRel) + fmt(", log RMS %.3g", sl.mrmLog), 15,
+                  mrmColor);
+    }
+    int lx = 90;
+    const int ly = 666;
+    dot(img, lx + 18, ly, 3, measured, OIIO::ROI::All());
+    text.draw(img, lx + 44, ly, "measured (in-plane samples)", 16, kText, IBA::TextAlignX::Left,
+              IBA::TextAlignY::Center);
+    lx += 300;
+    thick_line(img, lx, ly, lx + 36, ly, nodeColor, 3, OIIO::ROI::All());
+    text.draw(img, lx + 44, ly, "node fit (prismatic retroreflector)", 16, kText,
+              IBA::TextAlignX::Left, IBA::TextAlignY::Center);
+    lx += 340;
+    thick_line(img, lx, ly, lx + 36, ly, mrmColor, 3, OIIO::ROI::All());
+    text.draw(img, lx + 44, ly, "mrm fit (MaterialX retroreflective GGX + Lambert)", 16, kText,
+              IBA::TextAlignX::Left, IBA::TextAlignY::Center);
+    return img;
+}
+
+void write_png(OIIO::ImageBuf& img, const fs::path& dst) {
+    const fs::path tmp =
+        dst.parent_path() / ("." + dst.filename().string() + ".tmp" + std::to_string(getpid()));
+    if (!img.write(tmp.string(), OIIO::TypeDesc::UINT8, "png")) {
+        const std::string err = img.geterror();
+        std::error_code ec;
+        fs::remove(tmp, ec);
+        throw InputError(dst.string() + ": cannot write (" + err + ")");
+    }
+    std::error_code ec;
+    fs::rename(tmp, dst, ec);
+    if (ec) {
+        std::error_code ignored;
+        fs::remove(tmp, ignored);
+        throw InputError(dst.string() + ": cannot write (" + ec.message() + ")");
+    }
+}
+
+double parse_option(const std::string& text, const std::string& option, double lo, double hi) {
+    char* end = nullptr;
+    const double v = std::strtod(text.c_str(), &end);
+    if (text.empty() || *end != '\0' || !std::isfinite(v) || v < lo || v > hi) {
+        char buf[160];
+        std::snprintf(buf, sizeof buf, "%s %s: expected a number in [%g, %g]", option.c_str(),
+                      text.c_str(), lo, hi);
+        throw InputError(buf);
+    }
+    return v;
+}
+
+void print_report(const FitData& d, const AltaData& alta, const FitOptions& o, const NodeFit& nf,
+                  const MrmFit& mf, double seconds) {
+    const std::string sample = alta.header_value("SAMPLE");
+    std::printf("data: %s (%zu samples%s), value = BRDF x cos(theta_v) [1/sr]\n", d.file.c_str(),
+                d.samples.size(), sample.empty() ? "" : (", \"" + sample + "\"").c_str());
+    std::printf("objective: weighted RMS of ln((m + eps) / (y + eps)), eps = %.3g (%.0f%% of the "
+                "median value); each theta_l weighs the same, and within it the peak samples (> "
+                "%.0f x its median) and the floor weigh half each\n",
+                nf.report.epsilon, 100 * o.floor_fraction, o.peak_factor);
+    std::printf("instrument: outgoing directions blurred by a Gaussian of FWHM %.3g deg (sigma "
+                "%.3g deg), by widening the peaked lobes (fitting.h)\n",
+                o.resolution_fwhm_deg, o.resolution_fwhm_deg / 2.3548200450309493);
+    const NodeFitParams& p = nf.params;
+    const baselines::RetroreflectiveGGX& m = mf.model;
+    const char* modes[3] = {"ideal", "tir", "metallized"};
+    std::printf("\n%-20s %-30s %-30s\n", "", "node (prismatic retroreflector)",
+                "mrm (retroreflective GGX + Lambert)");
+    std::printf("%-20s %-30s %-30s\n", "roughness",
+                (plot::fmt("%.4f", p.roughness) + " (Beckmann)").c_str(),
+                (plot::fmt("%.4f", m.roughness) + " (GGX)").c_str());
+    std::printf("%-20s %-30s %-30s\n", "ior",
+                (plot::fmt("%.4f", p.ior) + (o.fixed_ior > 0 ? " (fixed)" : "")).c_str(),
+                (plot::fmt("%.4f", m.ior) + (o.fixed_ior > 0 ? " (fixed)" : "")).c_str());
+    std::printf("%-20s %-30.4f %-30.4f\n", "specular", p.specular, m.specular);
+    std::printf("%-20s %-30.4f %-30s\n", "retro_color (grey)", p.retro, "-");
+    std::printf("%-20s %-30.4f %-30.4f\n", "diffuse_color (grey)", p.diffuse, m.color.x);
+    std::printf("%-20s %-30s %-30s\n", "prism_reflection", modes[p.prism_reflection], "-");
+    std::printf("%-20s %-30.4f %-30.4f\n", "rel_rms", nf.report.rel_rms, mf.report.rel_rms);
+    std::printf("%-20s %-30.4f %-30.4f\n", "log_rms", nf.report.log_rms, mf.report.log_rms);
+    std::printf("%-20s %-30.4g %-30.4g\n", "weighted log RMS", std::sqrt(nf.report.objective),
+                std::sqrt(mf.report.objective));
+    std::printf("%-20s ideal %.4g, tir %.4g, metallized %.4g (weighted RMS log error per "
+                "prism_reflection)\n",
+                "node modes", std::sqrt(nf.mode_objective[0]), std::sqrt(nf.mode_objective[1]),
+                std::sqrt(nf.mode_objective[2]));
+    std::printf("\nper theta_l (rel_rms and log_rms over that angle's samples; peaks: the highest "
+                "measured sample within 3 deg of the retro / mirror direction, and the fits "
+                "there):\n");
+    std::printf("%8s %6s %9s %9s %9s %9s | %8s %8s %8s | %8s %8s %8s\n", "theta_l", "n", "rel node",
+                "rel mrm", "log node", "log mrm", "retro y", "node", "mrm", "mirror y", "node",
+                "mrm");
+    for (size_t g = 0; g < nf.report.groups.size(); ++g) {
+        const GroupReport& a = nf.report.groups[g];
+        const GroupReport& b = mf.report.groups[g];
+        std::printf("%8.2f %6d %9.4f %9.4f %9.4f %9.4f | %8.4g %8.4g %8.4g | %8.4g %8.4g %8.4g\n",
+                    a.theta_deg, a.samples, a.rel_rms, b.rel_rms, a.log_rms, b.log_rms,
+                    a.retro_measured, a.retro_model, b.retro_model, a.mirror_measured,
+                    a.mirror_model, b.mirror_model);
+    }
+    std::printf("\nruntime %.1f s (%d + %d shape evaluations)\n", seconds, nf.evaluations,
+                mf.evaluations);
+}
+
+} // namespace
+
+int cmd_fit(int argc, const char** argv) {
+    OIIO::ArgParse ap;
+    ap.intro("retroprism fit: fits the node (roughness, ior, specular, retro_color, "
+             "diffuse_color, prism_reflection) and the MaterialX-style retroreflective GGX "
+             "baseline to measured BRDF x cos(theta_v) in the ALTA text format (#PARAM_IN "
+             "ISOTROPIC_TL_TV_PROJ_DPHI), weighting peaks and floor alike in log space, with the "
+             "instrument's angular resolution as a Gaussian blur")
+        .usage("retroprism fit DATA.dat [--json] [--plot OUT.png] [--resolution FWHM_DEG] [--ior "
+               "ETA]");
+    std::string file;
+    ap.arg("filename").hidden().action([&](OIIO::cspan<const char*> a) { file = a[0]; });
+    ap.arg("--json")
+        .help("print only {\"params\", \"rel_rms\", \"log_rms\", \"mrm\": {...}} as JSON")
+        .store_true();
+    ap.arg("--plot FILE").help("write in-plane slices, measured vs fitted, as a PNG");
+    ap.arg("--resolution DEG")
+        .help("FWHM of the instrument's Gaussian angular blur in degrees, 0 for none (default "
+              "1.07, the sampling of the CEA measurements)")
+        .defaultval("1.07");
+    ap.arg("--ior ETA")
+        .help("fix the ior of both models (e.g. 1.49 for acrylic) instead of fitting it");
+    ap.exit_on_error(false);
+    if (ap.parse_args(argc, argv) < 0) {
+        std::fprintf(stderr, "retroprism fit: %s\n", ap.geterror().c_str());
+        return 2;
+    }
+    if (ap.aborted() || ap["help"].get<int>()) return 0;
+    if (file.empty()) throw InputError("fit: give a data file in the ALTA text format");
+
+    const auto t0 = std::chrono::steady_clock::now();
+    FitOptions o;
+    o.resolution_fwhm_deg =
+        parse_option(ap["resolution"].get<std::string>(), "--resolution", 0.0, 10.0);
+    if (!ap["ior"].get<std::string>().empty())
+        o.fixed_ior = parse_option(ap["ior"].get<std::string>(), "--ior", 1.01, 3.0);
+    const std::string plotPath = ap["plot"].get<std::string>();
+    if (!plotPath.empty()) {
+        const fs::path dir = fs::path(plotPath).parent_path();
+        std::error_code ec;
+        if (!dir.empty() && !fs::is_directory(dir, ec))
+            throw InputError("--plot " + plotPath + ": no folder " + dir.string());
+    }
+    const AltaData alta = read_alta(file);
+    const FitData d = fit_data(alta);
+    const NodeFit nf = fit_node(d, o);
+    const MrmFit mf = fit_mrm(d, o);
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+    if (!plotPath.empty()) {
+        plot::Text text("retroprism fit");
+        OIIO::ImageBuf img = comparison_plot(file, slices(d, nf, mf, o), text);
+        write_png(img, plotPath);
+    }
+    if (ap["json"].get<int>()) {
+        json j = json::object();
+        j["params"] = node_json(nf.params);
+        j["rel_rms"] = nf.report.rel_rms;
+        j["log_rms"] = nf.report.log_rms;
+        j["mrm"] = {{"params", mrm_json(mf.model)},
+                    {"rel_rms", mf.report.rel_rms},
+                    {"log_rms", mf.report.log_rms}};
+        std::printf("%s\n", j.dump().c_str());
+    } else {
+        print_report(d, alta, o, nf, mf, seconds);
+        if (!plotPath.empty()) std::printf("wrote %s\n", plotPath.c_str());
+    }
+    return 0;
 }
 
 } // namespace retroprism

@@ -1,13 +1,110 @@
-// Placeholder of `retroprism ra (issue 7)`, being written.
+// ra.cpp: `retroprism ra`, the coefficient of retroreflection R_A of a material as traffic
+// standards tabulate it (ASTM E808 / E810, CIE 54.2; ASTM D4956 sheeting specifications):
+// observation angles 0.2, 0.33, 0.5, 1.0, 1.5 degrees x entrance angles -4, 15, 30, 40, 45
+// degrees at one rotation angle epsilon. R_A = f cos(theta_i) cos(theta_o) in cd lx^-1 m^-2
+// (MODEL.md section 5); the angle conventions are written in photometry.h.
+#include <cmath>
 #include <cstdio>
+#include <string>
 
+#include <OpenImageIO/argparse.h>
+
+#include "color.h"
 #include "commands.h"
+#include "photometry.h"
+#include "query.h"
+#include "ra_print.h"
 
 namespace retroprism {
 
-int cmd_ra(int, const char**) {
-    std::fprintf(stderr, "retroprism ra: not available yet\n");
-    return 1;
+void print_ra_table(const RaTable& t, const std::string& material, bool rgb, std::FILE* out) {
+    std::fprintf(out,
+                 "R_A [cd lx^-1 m^-2] of %s, rotation epsilon = %g deg (coplanar geometry; rows: "
+                 "observation angle alpha, columns: entrance angle beta)\n",
+                 material.c_str(), t.rotation);
+    const char* names[4] = {"Y (Rec.709 luminance)", "R", "G", "B"};
+    for (int part = 0; part < (rgb ? 4 : 1); ++part) {
+        if (rgb) std::fprintf(out, "%s\n", names[part]);
+        std::fprintf(out, "%14s", "alpha \\ beta");
+        for (double b : t.entrance)
+            std::fprintf(out, " %9g", b);
+        std::fprintf(out, "\n");
+        for (size_t r = 0; r < t.observation.size(); ++r) {
+            std::fprintf(out, "%14g", t.observation[r]);
+            for (size_t c = 0; c < t.entrance.size(); ++c) {
+                const glm::dvec3& v = t.rgb[r][c];
+                const double x = part == 0 ? luminance_709(v) : v[part - 1];
+                std::fprintf(out, " %9.2f", x);
+            }
+            std::fprintf(out, "\n");
+        }
+    }
+}
+
+void print_ra_csv(const RaTable& t, std::FILE* out) {
+    std::fprintf(out, "observation_deg,entrance_deg,rotation_deg,R_A_Y,R_A_R,R_A_G,R_A_B\n");
+    for (size_t r = 0; r < t.observation.size(); ++r)
+        for (size_t c = 0; c < t.entrance.size(); ++c) {
+            const glm::dvec3& v = t.rgb[r][c];
+            std::fprintf(out, "%g,%g,%g,%.9g,%.9g,%.9g,%.9g\n", t.observation[r], t.entrance[c],
+                         t.rotation, luminance_709(v), v.x, v.y, v.z);
+        }
+}
+
+int cmd_ra(int argc, const char** argv) {
+    OIIO::ArgParse ap;
+    ap.intro("retroprism ra: coefficient of retroreflection R_A = f cos(theta_i) cos(theta_o) "
+             "[cd lx^-1 m^-2] at the standard observation (0.2, 0.33, 0.5, 1.0, 1.5 deg) and "
+             "entrance (-4, 15, 30, 40, 45 deg) angles, coplanar geometry (ASTM E808/E810, "
+             "CIE 54.2: entrance angle beta from the normal to the illumination axis, negative on "
+             "the other side of the normal; observation angle alpha from the illumination axis "
+             "to the observation axis in the same plane, the observer keeping its side of the "
+             "source; rotation epsilon turns the sample about its normal)")
+        .usage("retroprism ra [--material FILE.json | --document DOC.mtlx [--name NAME]] "
+               "[--rotation DEG] [--csv] [--rgb]");
+    ap.arg("--material FILE").help("node inputs as a JSON object (default: all defaults)");
+    ap.arg("--document FILE").help("a MaterialX document (.mtlx) instead of --material");
+    ap.arg("--name NAME").help("the material of the document (default: its first)");
+    ap.arg("--rotation DEG")
+        .help("rotation angle epsilon of the sample about its normal (default 0)")
+        .defaultval("0");
+    ap.arg("--csv").help("CSV on standard output (Y and R, G, B per row)").store_true();
+    ap.arg("--rgb").help("text: also the R, G and B tables").store_true();
+    ap.exit_on_error(false);
+    if (ap.parse_args(argc, argv) < 0) {
+        std::fprintf(stderr, "retroprism ra: %s\n", ap.geterror().c_str());
+        return 2;
+    }
+    if (ap.aborted() || ap["help"].get<int>()) return 0;
+
+    const std::string json = ap["material"].get<std::string>();
+    const std::string doc = ap["document"].get<std::string>();
+    const std::string name = ap["name"].get<std::string>();
+    if (!json.empty() && !doc.empty())
+        throw InputError("give either --material FILE.json or --document DOC.mtlx, not both");
+    if (!name.empty() && doc.empty()) throw InputError("--name selects a material of --document");
+    const std::string rotText = ap["rotation"].get<std::string>();
+    char* end = nullptr;
+    const double rotation = std::strtod(rotText.c_str(), &end);
+    if (rotText.empty() || *end != '\0' || !std::isfinite(rotation))
+        throw InputError("--rotation " + rotText + ": expected a finite number of degrees");
+
+    Params p;
+    std::string label = "the default material";
+    if (!json.empty()) {
+        p = params_from_json(read_json(json), json);
+        label = json;
+    } else if (!doc.empty()) {
+        std::string materialName;
+        p = document_params(doc, name, &materialName);
+        label = "material \"" + materialName + "\" of " + doc;
+    }
+    const RaTable t = ra_table(p, rotation);
+    if (ap["csv"].get<int>())
+        print_ra_csv(t, stdout);
+    else
+        print_ra_table(t, label, ap["rgb"].get<int>() != 0, stdout);
+    return 0;
 }
 
 } // namespace retroprism

@@ -14,11 +14,14 @@ const char* const kEraNames[] = {"averaged", "matched_pair", "oriented"};
 const char* const kPrismNames[] = {"ideal", "tir", "metallized"};
 const char* const kEraConst[] = {"RP_ERA_AVERAGED", "RP_ERA_MATCHED_PAIR", "RP_ERA_ORIENTED"};
 const char* const kPrismConst[] = {"RP_PRISM_IDEAL", "RP_PRISM_TIR", "RP_PRISM_METALLIZED"};
+const char* const kFidelityNames[] = {"exact", "fast"};
+const char* const kFidelityConst[] = {"RP_FIDELITY_EXACT", "RP_FIDELITY_FAST"};
 
 const std::set<std::string>& known_features() {
     static const std::set<std::string> names = {
         "surface",      "retro",       "diffuse",   "era_averaged",    "era_matched_pair",
-        "era_oriented", "prism_ideal", "prism_tir", "prism_metallized"};
+        "era_oriented", "prism_ideal", "prism_tir", "prism_metallized", "fidelity_exact",
+        "fidelity_fast"};
     return names;
 }
 
@@ -141,6 +144,11 @@ std::string to_glsl(std::string s, const Variant& v) {
     if (v.prism_reflection >= 0)
         s = std::regex_replace(s, std::regex(R"(\bm\.prism_reflection\b(?!\s*=[^=]))"),
                                kPrismConst[v.prism_reflection]);
+    if (v.fidelity >= 0) {
+        s = std::regex_replace(s, std::regex(R"(\bm\.fidelity\b(?!\s*=[^=]))"), kFidelityConst[v.fidelity]);
+        s = std::regex_replace(s, std::regex(R"(\(fidelity == )"),
+                               std::string("(") + kFidelityConst[v.fidelity] + " == ");
+    }
     return s;
 }
 
@@ -176,6 +184,8 @@ std::string entry_point(const Variant& v) {
     if (v.era_mode >= 0) fixed += "    era_mode = " + std::string(kEraConst[v.era_mode]) + ";\n";
     if (v.prism_reflection >= 0)
         fixed += "    prism_reflection = " + std::string(kPrismConst[v.prism_reflection]) + ";\n";
+    if (v.fidelity >= 0)
+        fixed += "    fidelity = " + std::string(kFidelityConst[v.fidelity]) + ";\n";
     // The inputs in table order, as GLSL parameters and as arguments.
     std::string inputs = entry_signature();
     inputs = inputs.substr(0, inputs.find("vec3 wi,"));
@@ -198,7 +208,7 @@ std::string entry_point(const Variant& v) {
            "    rp_make_frame(normal, tangent, fN, fT, fB);\n"
            "    return rp_prepare(weight, diffuse_color, retro_color, specular, roughness, ior,\n"
            "                      prism_reflection, metal_reflectance, era_mode, orientation,\n"
-           "                      retro_lobe, reciprocal ? 1 : 0);\n"
+           "                      retro_lobe, reciprocal ? 1 : 0, fidelity);\n"
            "}\n\n"
            "// The node, evaluated: f (1/sr, without the cosine) per lobe for wi (toward the "
            "light)\n"
@@ -259,7 +269,9 @@ std::string Variant::describe() const {
     if (diffuse) lobes += "diffuse ";
     return "lobes: " + lobes + "| era_mode: " + (era_mode < 0 ? "runtime" : kEraNames[era_mode]) +
            " | prism_reflection: " +
-           (prism_reflection < 0 ? "runtime" : kPrismNames[prism_reflection]);
+           (prism_reflection < 0 ? "runtime" : kPrismNames[prism_reflection]) +
+           " | fidelity: " + (fidelity < 0 ? "runtime" : kFidelityNames[fidelity]);
+
 }
 
 std::vector<Variant> standard_variants() {
@@ -275,6 +287,13 @@ std::vector<Variant> standard_variants() {
         if (v.surface) v.name += "_surface";
         if (v.retro) v.name += "_retro";
         if (v.diffuse) v.name += "_diffuse";
+        out.push_back(v);
+    }
+    // The fast tier, everything else at run time.
+    {
+        Variant v;
+        v.fidelity = 1;
+        v.name = "prismatic_retroreflector_fast";
         out.push_back(v);
     }
     // Every ERA mode with every prism reflection, all lobes.
@@ -299,6 +318,8 @@ std::set<std::string> features(const Variant& v) {
         if (v.era_mode < 0 || v.era_mode == i) f.insert(std::string("era_") + kEraNames[i]);
         if (v.prism_reflection < 0 || v.prism_reflection == i)
             f.insert(std::string("prism_") + kPrismNames[i]);
+        if (i < 2 && (v.fidelity < 0 || v.fidelity == i))
+            f.insert(std::string("fidelity_") + kFidelityNames[i]);
     }
     return f;
 }

@@ -19,6 +19,7 @@ struct Variant {
     bool diffuse = true;
     int era_mode = -1;         // -1: chosen at run time by the era_mode input
     int prism_reflection = -1; // -1: chosen at run time by the prism_reflection input
+    int fidelity = -1;         // -1: chosen at run time by the fidelity input
     std::string describe() const;
 };
 

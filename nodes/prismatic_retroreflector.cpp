@@ -144,7 +144,8 @@ f64::rp_material prepare_material(const Params& p) {
                            f64::vec3(p.diffuse_color[0], p.diffuse_color[1], p.diffuse_color[2]),
                            f64::vec3(p.retro_color[0], p.retro_color[1], p.retro_color[2]),
                            p.specular, p.roughness, p.ior, p.prism_reflection, p.metal_reflectance,
-                           p.era_mode, p.orientation, p.retro_lobe, p.reciprocal ? 1 : 0);
+                           p.era_mode, p.orientation, p.retro_lobe, p.reciprocal ? 1 : 0,
+                           p.fidelity);
 }
 
 namespace {
@@ -174,6 +175,7 @@ f32::rp_material round_material<float>(const f64::rp_material& m) {
     r.vertex3 = f32::vec2(m.vertex3);
     r.retro_anisotropic = m.retro_anisotropic;
     r.reciprocal = m.reciprocal;
+    r.fidelity = m.fidelity;
     r.diffuse_scale = f32::vec3(m.diffuse_scale);
     r.diffuse_albedo = f32::vec3(m.diffuse_albedo);
     return r;

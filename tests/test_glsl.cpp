@@ -70,6 +70,8 @@ TEST_CASE("Specialised variants leave out the code they do not use", "[glsl]") {
         CHECK(has("rp_era_avg_table") == averaged);
         const bool tir = v.prism_reflection < 0 || v.prism_reflection == 1;
         CHECK(has("rp_face_reflectance_tir") == tir);
+        CHECK(has("rp_beckmann_lambda_fast") == (v.fidelity != 0));
+        CHECK(has("rp_beckmann_lambda(") == (v.fidelity != 1));
         if (v.era_mode >= 0) CHECK_FALSE(has("m.era_mode =="));
         if (v.prism_reflection >= 0) CHECK_FALSE(has("m.prism_reflection =="));
         CHECK_FALSE(has("@rp-"));
@@ -121,6 +123,7 @@ TEST_CASE("Each specialised variant computes what the C++ reference computes", "
             // The variant's fixed choices, and its lobes, in the reference's material.
             if (v.era_mode >= 0) q.material.era_mode = v.era_mode;
             if (v.prism_reflection >= 0) q.material.prism_reflection = v.prism_reflection;
+            if (v.fidelity >= 0) q.material.fidelity = v.fidelity;
             std::vector<std::array<Vec3d, 2>> pairs;
             for (const DirectionPair& s : q.samples)
                 pairs.push_back({s.wi, s.wo});

@@ -121,6 +121,7 @@ std::vector<Params> extreme_materials() {
                 p.prism_reflection = prism;
                 p.era_mode = (prism + int(ior * 7)) % 3;
                 p.retro_lobe = prism % 2;
+                p.fidelity = (prism + int(ior * 3)) % 2;
                 p.reciprocal = (prism + int(roughness * 1e4)) % 2 == 1;
                 p.orientation = 33.0;
                 out.push_back(p);
@@ -298,6 +299,7 @@ TEST_CASE("float agrees with double to 1e-4 above 1e-6 of each lobe's peak", "[s
                     p.orientation = 20.0;
                     p.diffuse_color = {f(0.9), f(0.5), f(0.1)};
                     p.retro_lobe = era % 2;
+                    p.fidelity = (era + prism) % 2;
                     p.reciprocal = prism == 1;
                     p.retro_color = {1.0, f(0.8), f(0.2)};
                     p.metal_reflectance = f(p.metal_reflectance);

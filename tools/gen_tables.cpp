@@ -14,6 +14,8 @@ using namespace retroprism;
 namespace {
 
 const int kEraAvgN = 2049;
+const int kTirNt = 129;  // fast tier's table of the uncoated average: nodes over t
+const int kTirNeta = 81; // and over eta in [1, 3]
 const int kFdrN = 2049;                        // nodes over eta in [1, 3]
 const double kFdrEtaMax = 3.0;                 // nodes over t = tan(theta_t) in [0, sqrt 2]
 const double kTanMax = 1.41421356237309504880; // A = 0 beyond theta_t = 54.74 deg
@@ -42,6 +44,11 @@ int main(int argc, char** argv) {
     std::vector<double> era(kEraAvgN);
     for (int i = 0; i < kEraAvgN; ++i)
         era[i] = era_averaged_direct(kTanMax * i / (kEraAvgN - 1));
+    std::vector<double> tir(size_t(kTirNt) * kTirNeta);
+    for (int j = 0; j < kTirNeta; ++j)
+        for (int i = 0; i < kTirNt; ++i)
+            tir[size_t(j) * kTirNt + i] = f64::rp_retro_fraction_averaged_exact(
+                kTanMax * i / (kTirNt - 1), 1.0 + 2.0 * j / (kTirNeta - 1), true);
     std::vector<double> fdr(kFdrN);
     for (int i = 0; i < kFdrN; ++i)
         fdr[i] = fdr_external(1.0 + (kFdrEtaMax - 1.0) * i / (kFdrN - 1));
@@ -64,6 +71,16 @@ int main(int argc, char** argv) {
     std::fprintf(f, "// @rp-if era_averaged\n");
     std::fprintf(f, "const int RP_ERA_AVG_N = %d;\n", kEraAvgN);
     write_table(f, "rp_era_avg_table", era);
+    std::fprintf(f, "// @rp-endif\n");
+    std::fprintf(f,
+                 "// rp_tir_avg_table: the fast tier's azimuth average of A R1 R2 R3 for uncoated\n"
+                 "// prisms (rp_retro_fraction_averaged_exact) at t as above with RP_TIR_NT nodes\n"
+                 "// and eta in [1, RP_TIR_ETA_MAX] with RP_TIR_NETA nodes; entry [j RP_TIR_NT + i].\n");
+    std::fprintf(f, "// @rp-if era_averaged&prism_tir&fidelity_fast\n");
+    std::fprintf(f, "const int RP_TIR_NT = %d;\n", kTirNt);
+    std::fprintf(f, "const int RP_TIR_NETA = %d;\n", kTirNeta);
+    std::fprintf(f, "const real RP_TIR_ETA_MAX = real(3.0);\n");
+    write_table(f, "rp_tir_avg_table", tir);
     std::fprintf(f, "// @rp-endif\n");
     std::fprintf(
         f, "// rp_fdr_ext_table: F_dr_ext(eta), the outside hemispherical reflectance of the\n"

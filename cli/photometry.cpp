@@ -1,0 +1,64 @@
+#include "photometry.h"
+
+#include <cmath>
+
+namespace retroprism {
+
+namespace {
+constexpr double kDeg = 3.14159265358979323846 / 180.0;
+}
+
+double luminance_709(const glm::dvec3& rgb) {
+    return 0.2126 * rgb.x + 0.7152 * rgb.y + 0.0722 * rgb.z;
+}
+
+const std::vector<double>& ra_observation_angles() {
+    static const std::vector<double> v = {0.2, 0.33, 0.5, 1.0, 1.5};
+    return v;
+}
+
+const std::vector<double>& ra_entrance_angles() {
+    static const std::vector<double> v = {-4.0, 15.0, 30.0, 40.0, 45.0};
+    return v;
+}
+
+void ra_directions(double entranceDeg, double observationDeg, double rotationDeg, glm::dvec3& wi,
+                   glm::dvec3& wo) {
+    const double b = entranceDeg * kDeg, o = (entranceDeg - observationDeg) * kDeg;
+    const double e = -rotationDeg * kDeg, c = std::cos(e), s = std::sin(e);
+    auto turn = [&](double x, double z) { return glm::dvec3(c * x, s * x, z); };
+    wi = turn(std::sin(b), std::cos(b));
+    wo = turn(std::sin(o), std::cos(o));
+}
+
+Params ra_params(const Params& material) {
+    Params p = material;
+    p.normal = {0.0, 0.0, 1.0};
+    p.tangent = {1.0, 0.0, 0.0};
+    return p;
+}
+
+glm::dvec3 ra_value(const PrismaticRetroreflector<double>& node, double entranceDeg,
+                    double observationDeg, double rotationDeg) {
+    glm::dvec3 wi, wo;
+    ra_directions(entranceDeg, observationDeg, rotationDeg, wi, wo);
+    return node.eval(wi, wo).f.total() * (wi.z * wo.z);
+}
+
+RaTable ra_table(const Params& material, double rotationDeg, const std::vector<double>& observation,
+                 const std::vector<double>& entrance) {
+    const PrismaticRetroreflector<double> node(ra_params(material));
+    RaTable t;
+    t.observation = observation;
+    t.entrance = entrance;
+    t.rotation = rotationDeg;
+    for (double a : observation) {
+        std::vector<glm::dvec3> row;
+        for (double b : entrance)
+            row.push_back(ra_value(node, b, a, rotationDeg));
+        t.rgb.push_back(row);
+    }
+    return t;
+}
+
+} // namespace retroprism

@@ -1,0 +1,65 @@
+// photometry.h: the coefficient of retroreflection R_A of a material (MODEL.md section 5).
+//
+// R_A = f(wi, wo) cos(theta_i) cos(theta_o), in cd lx^-1 m^-2 (numerically 1/sr): the luminous
+// intensity sent toward the observer per unit illuminance on a plane perpendicular to the
+// illumination axis, per unit sample area.
+//
+// Angle conventions (ASTM E808 / E810, CIE 54.2), coplanar geometry: presentation angle
+// gamma = 0 and the second entrance-angle component beta_2 = 0, so the illumination axis, the
+// observation axis and the reference axis (the sample's normal) lie in one plane.
+//  - Sample frame: reference axis n = +z; the datum mark is the node's tangent, +x.
+//  - Entrance angle beta: from the reference axis to the illumination axis, signed, in the
+//    x-z plane: wi = (sin beta, 0, cos beta). A negative entrance angle puts the source on the
+//    other side of the normal (the -4 degree column of sign specifications).
+//  - Observation angle alpha: between the illumination axis and the observation axis, in the
+//    same plane. The instruments are fixed and the sample turns (a goniometer), so the observer
+//    keeps its side of the source: wo = (sin(beta - alpha), 0, cos(beta - alpha)). For
+//    beta > alpha the observer is between the source and the normal; for beta < 0 it is on the
+//    far side. (At the table's alpha <= 1.5 degrees this choice changes R_A by < 0.1% for
+//    the node: its retro lobe is symmetric about wi.)
+//  - Rotation angle epsilon: the sample (with its prisms and datum mark) turned about its
+//    normal by epsilon, counter-clockwise seen from the source's side (+z). Evaluated by turning
+//    wi and wo by -epsilon about z in the sample frame; it matters for era_mode oriented
+//    (period 120 degrees) and matched_pair (period 180), not for averaged.
+// The material's normal and tangent inputs are not used: R_A is a property of the flat sample.
+#pragma once
+
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "prismatic_retroreflector.h"
+
+namespace retroprism {
+
+// Rec. 709 luminance Y of linear RGB.
+double luminance_709(const glm::dvec3& rgb);
+
+// The standard table's angles (degrees).
+const std::vector<double>& ra_observation_angles(); // 0.2, 0.33, 0.5, 1.0, 1.5
+const std::vector<double>& ra_entrance_angles();    // -4, 15, 30, 40, 45
+
+// wi and wo in the node's local frame for entrance beta, observation alpha and rotation
+// epsilon (degrees), by the conventions above.
+void ra_directions(double entranceDeg, double observationDeg, double rotationDeg, glm::dvec3& wi,
+                   glm::dvec3& wo);
+
+// The node's parameters for R_A: the material with the default frame (normal +z, tangent +x).
+Params ra_params(const Params& material);
+
+// R_A per RGB channel (cd lx^-1 m^-2) of a node built from ra_params(material).
+glm::dvec3 ra_value(const PrismaticRetroreflector<double>& node, double entranceDeg,
+                    double observationDeg, double rotationDeg);
+
+struct RaTable {
+    std::vector<double> observation;          // rows, degrees
+    std::vector<double> entrance;             // columns, degrees
+    double rotation = 0;                      // degrees
+    std::vector<std::vector<glm::dvec3>> rgb; // [row][column]
+};
+
+RaTable ra_table(const Params& material, double rotationDeg,
+                 const std::vector<double>& observation = ra_observation_angles(),
+                 const std::vector<double>& entrance = ra_entrance_angles());
+
+} // namespace retroprism
