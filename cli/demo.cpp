@@ -29,6 +29,7 @@
 #include <OpenImageIO/parallel.h>
 
 #include "commands.h"
+#include "plot.h"
 #include "query.h"
 
 namespace fs = std::filesystem;
@@ -48,7 +49,6 @@ constexpr int kSliceSamples = 4000; // uniform samples of the signed theta_o in 
 constexpr double kDeg = M_PI / 180.0;
 // Rec. 709 luminance weights: the plots show photometric Y of the RGB values.
 constexpr double kLumR = 0.2126, kLumG = 0.7152, kLumB = 0.0722;
-const char* kFont = "DejaVuSans";
 
 struct Material {
     std::string name; // file stem
@@ -238,55 +238,8 @@ Slice slice(const Node& node, double thetaIDeg, Anomalies& anomalies) {
 // ---------------------------------------------------------------------------------------------
 // Drawing.
 
-using Rgb = std::array<float, 3>;
-const Rgb kBackground = {0.055f, 0.06f, 0.075f};
-const Rgb kPlotBackground = {0.09f, 0.095f, 0.115f};
-const Rgb kGrid = {0.22f, 0.23f, 0.27f};
-const Rgb kAxis = {0.6f, 0.62f, 0.66f};
-const Rgb kText = {0.88f, 0.89f, 0.92f};
-const Rgb kDimText = {0.62f, 0.64f, 0.68f};
-// surface, retro, diffuse, total
-const Rgb kLobeColor[4] = {
-    {0.30f, 0.72f, 1.0f}, {1.0f, 0.45f, 0.18f}, {0.40f, 0.88f, 0.35f}, {1.0f, 1.0f, 1.0f}};
+using namespace plot;
 const char* kLobeName[4] = {"surface", "retro", "diffuse", "total"};
-
-// Text drawing that degrades to nothing when no font can be found.
-struct Text {
-    bool ok = true;
-    void draw(OIIO::ImageBuf& img, int x, int y, const std::string& s, int size, const Rgb& color,
-              OIIO::ImageBufAlgo::TextAlignX ax = OIIO::ImageBufAlgo::TextAlignX::Left,
-              OIIO::ImageBufAlgo::TextAlignY ay = OIIO::ImageBufAlgo::TextAlignY::Baseline) {
-        if (!ok) return;
-        if (!OIIO::ImageBufAlgo::render_text(img, x, y, s, size, kFont, color, ax, ay)) {
-            ok = false;
-            std::fprintf(stderr,
-                         "retroprism demo: note: no font for labels (%s); drawing plots "
-                         "without text\n",
-                         img.geterror().c_str());
-        }
-    }
-};
-
-std::string fmt(const char* f, double v) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, f, v);
-    return buf;
-}
-
-// A line of the given thickness (1 or more pixels), clipped to `clip`.
-void thick_line(OIIO::ImageBuf& img, int x1, int y1, int x2, int y2, const Rgb& c, int width,
-                OIIO::ROI clip) {
-    const int lo = -(width - 1) / 2, hi = width / 2;
-    for (int dx = lo; dx <= hi; ++dx)
-        for (int dy = lo; dy <= hi; ++dy)
-            OIIO::ImageBufAlgo::render_line(img, x1 + dx, y1 + dy, x2 + dx, y2 + dy, c, false,
-                                            clip);
-}
-
-void dashed_vline(OIIO::ImageBuf& img, int x, int y0, int y1, const Rgb& c) {
-    for (int y = y0; y < y1; y += 8)
-        OIIO::ImageBufAlgo::render_line(img, x, y, x, std::min(y + 4, y1), c);
-}
 
 // The slice plots of one material: one panel per theta_i, shared log axis.
 OIIO::ImageBuf slice_plot(const Material& mat, const std::vector<Slice>& slices, Text& text) {
@@ -620,7 +573,7 @@ int cmd_demo(int argc, const char** argv) {
     prepare_out(out);
     std::printf("materials: %s (%zu)\n", where.string().c_str(), materials.size());
 
-    Text text;
+    Text text("retroprism demo");
     long anomalyTotal = 0;
     for (const Material& mat : materials) {
         const Node node(mat.params);

@@ -1,7 +1,10 @@
 #!/usr/bin/env bash
-# The main job on the bundled examples: sets up, builds, then writes BRDF slice plots (PNG)
-# and per-lobe EXR maps of every material in examples/materials to out/demo/.
+# The main job on the bundled example: sets up, builds, renders the example MaterialX document
+# under a headlight (out/white_sign.exr with a layer per lobe, out/white_sign.png) and prints
+# its R_A table; then plots every example material's BRDF slices into out/demo/.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 bash "$root/scripts/build.sh"
-"${BUILD_DIR:-$root/build}/cli/retroprism" demo --materials "$root/examples/materials" --out "$root/out/demo" "$@"
+cli="${BUILD_DIR:-$root/build}/cli/retroprism"
+"$cli" render "$root/examples/documents/white_sign.mtlx" -o "$root/out/white_sign.exr" "$@"
+"$cli" demo --materials "$root/examples/materials" --out "$root/out/demo"
