@@ -17,6 +17,7 @@ int cmd_demo(int argc, const char** argv);
 int cmd_params(int argc, const char** argv);
 int cmd_check(int argc, const char** argv);
 int cmd_export(int argc, const char** argv);
+int cmd_bench(int argc, const char** argv);
 int cmd_simulate(int argc, const char** argv);
 int cmd_render(int argc, const char** argv);
 int cmd_ra(int argc, const char** argv);

@@ -41,6 +41,7 @@ const char* kUsage =
     "                                      microgeometry Monte Carlo: the ground-truth BRDF\n"
     "  check [--backend NAME] [--stress]   cross-check backends against cpp-double\n"
     "  export --out DIR                    the MaterialX library and GLSL for other pipelines\n"
+    "  bench [--json] [--plot OUT.png]     the speed/accuracy trade table\n"
     "\n"
     "`retroprism COMMAND --help` describes a command.\n";
 
@@ -231,6 +232,7 @@ int main(int argc, const char** argv) {
         if (cmd == "params") return cmd_params(argc - 1, argv + 1);
         if (cmd == "check") return cmd_check(argc - 1, argv + 1);
         if (cmd == "export") return cmd_export(argc - 1, argv + 1);
+        if (cmd == "bench") return cmd_bench(argc - 1, argv + 1);
         if (cmd == "simulate") return cmd_simulate(argc - 1, argv + 1);
         if (cmd == "render") return cmd_render(argc - 1, argv + 1);
         if (cmd == "ra") return cmd_ra(argc - 1, argv + 1);

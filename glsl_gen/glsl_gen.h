@@ -20,6 +20,7 @@ struct Variant {
     int era_mode = -1;         // -1: chosen at run time by the era_mode input
     int prism_reflection = -1; // -1: chosen at run time by the prism_reflection input
     int fidelity = -1;         // -1: chosen at run time by the fidelity input
+    bool cpp = false;          // also generated as C++ (nodes/generated/cpp/<name>.inc)
     std::string describe() const;
 };
 
@@ -40,6 +41,11 @@ std::string generate_library(const Variant& v, const std::string& source_dir);
 // inputs in a uniform block, the entry point called from main.
 enum class Target { Glsl450, Essl300, Vulkan };
 std::string wrap_fragment(const std::string& library, Target target);
+
+// The C++ core of a variant (the common-subset source with the regions it leaves out dropped
+// and its fixed modes as constants), for a namespace of its own: what the benchmarks use to
+// show that a lobe or mode fixed at compile time costs nothing.
+std::string generate_cpp_core(const Variant& v, const std::string& source_dir);
 
 // The MaterialX node library, generated from the parameter table and the full variant:
 // relative path (under the project root) -> file text. Node `rp_prismatic_retroreflector_bsdf`,

@@ -26,6 +26,10 @@ int main(int argc, char** argv) {
         for (const auto& v : retroprism::glsl::standard_variants())
             outputs.push_back({"glsl_gen/generated/" + v.name + ".glsl",
                                retroprism::glsl::generate_library(v, root)});
+        for (const auto& v : retroprism::glsl::standard_variants())
+            if (v.cpp)
+                outputs.push_back({"nodes/generated/cpp/" + v.name + ".inc",
+                                   retroprism::glsl::generate_cpp_core(v, root)});
         for (auto& f : retroprism::glsl::generate_materialx(root))
             outputs.push_back(f);
         files = outputs.size();

@@ -133,5 +133,5 @@ RP_CORE_DISPATCH(double, f64)
 
 } // namespace retroprism
 
-#undef RP_CORE_PRELUDE
-#undef RP_ERFINV_REFINED
+// RP_CORE_PRELUDE and RP_ERFINV_REFINED stay defined: bench/variants.h instantiates generated
+// C++ variants of the core with them.

@@ -247,3 +247,28 @@ TEST_CASE("export writes the MaterialX library and the GLSL as checked in", "[cl
     CHECK(bad.status != 0);
     CHECK(contains(bad.output, "--out /proc/retroprism: cannot create the folder"));
 }
+
+TEST_CASE("bench --json prints the trade table's rows", "[cli]") {
+    Run r = run("bench --json --min-time 0.01");
+    REQUIRE(r.status == 0);
+    const json out = json::parse(r.output);
+    REQUIRE(out["rows"].size() >= 10);
+    bool sawMrm = false, sawFast = false;
+    for (const json& row : out["rows"]) {
+        for (const char* key : {"tier", "lobes", "ns_per_eval", "ratio_to_mrm", "rel_l1_error"})
+            CHECK(row.contains(key));
+        CHECK(row["ns_per_eval"].get<double>() > 0);
+        if (row["name"] == "mrm_ggx") {
+            sawMrm = true;
+            CHECK(row["ratio_to_mrm"].get<double>() == 1.0);
+        }
+        if (row["tier"] == "fast") {
+            sawFast = true;
+            // The fast tier's error against the reference is measured, not assumed.
+            CHECK(row["rel_l1_error"].get<double>() > 0);
+        }
+    }
+    CHECK(sawMrm);
+    CHECK(sawFast);
+    CHECK(run("bench --min-time 100").status != 0);
+}

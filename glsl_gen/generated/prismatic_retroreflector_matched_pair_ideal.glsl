@@ -787,7 +787,8 @@ float rp_beckmann_lambda_fast(float tan2Theta, float alpha) {
     if (!(tan2Theta > float(0.0))) return float(0.0);
     float a = float(1.0) / (alpha * sqrt(tan2Theta));
     if (a >= float(1.6)) return float(0.0);
-    return (float(1.0) - float(1.259) * a + float(0.396) * a * a) / (float(3.535) * a + float(2.181) * a * a);
+    return (float(1.0) - float(1.259) * a + float(0.396) * a * a) /
+           (float(3.535) * a + float(2.181) * a * a);
 }
 
 // Lambda in the material's fidelity tier.
@@ -936,8 +937,8 @@ float rp_fdr_external_table(float eta) {
 // the generated table in GLSL. F_dr (inside) follows by eta^2 (1 - F_dr) = 1 - F_dr_ext.
 rp_material rp_prepare(float weight, vec3 diffuseColor, vec3 retroColor, float specular,
                              float roughness, float ior, int prismReflection, float metalReflectance,
-                             int eraMode, float orientationDeg, int retroAnisotropic,
-                             int reciprocal, int fidelity) {
+                             int eraMode, float orientationDeg, int retroAnisotropic, int reciprocal,
+                             int fidelity) {
     rp_material m;
     m.weight = weight;
     m.specular = specular;
@@ -1072,7 +1073,8 @@ void rp_incident_setup(in rp_material m, vec3 wi, out rp_incident s) {
     s.ePerp = vec3(float(0.0));
     s.alphaPar = float(1.0);
     s.alphaPerp = float(1.0);
-    s.g1T = rp_beckmann_G1(m.fidelity, sin2ThetaT / max(cosThetaT * cosThetaT, RP_MIN_COS), m.alpha);
+    s.g1T =
+        rp_beckmann_G1(m.fidelity, sin2ThetaT / max(cosThetaT * cosThetaT, RP_MIN_COS), m.alpha);
 
     // Lobe frame about wi: ePerp = normalize(n x wi); at normal incidence any frame will do,
     // the tangent's is used.
@@ -1132,8 +1134,12 @@ void rp_estimates_at(in rp_material m, vec3 wi, out vec3 surface, out vec3 retro
 
 // pdf of the surface lobe's sampling: G1(wi) D(h) / (4 cos_i) (Heitz & d'Eon 2014, Eq. 17
 // with the reflection Jacobian 1 / (4 wi.h)).
+float rp_surface_pdf_from_D(in rp_incident s, float d) {
+    return s.g1I * d / (float(4.0) * s.cosThetaI);
+}
+
 float rp_surface_pdf(in rp_material m, in rp_incident s, vec3 h) {
-    return s.g1I * rp_beckmann_D(rp_tan2(h), m.alpha) / (float(4.0) * s.cosThetaI);
+    return rp_surface_pdf_from_D(s, rp_beckmann_D(rp_tan2(h), m.alpha));
 }
 
 // The retro lobe's direction density p_o about wi: a Gaussian in the slopes of wo in the
@@ -1152,12 +1158,15 @@ float rp_retro_density(in rp_incident s, vec3 wo, vec3 wi) {
     return exp(-x) * sec2 * sqrt(sec2) * RP_INV_PI / (s.alphaPar * s.alphaPerp);
 }
 
-// All three lobes at (wi, wo) given the incident state; wo.z >= RP_MIN_COS.
-void rp_eval_lobes(in rp_material m, in rp_incident s, vec3 wi, vec3 wo,
-                         out rp_lobes r) {
+// All three lobes at (wi, wo) given the incident state (wo.z >= RP_MIN_COS), and the mixture
+// pdf of rp_sample at wo, sum over the lobes of P_k pdf_k (MODEL.md section 4), from the same
+// D(h) and p_o the lobes use.
+void rp_eval_lobes_pdf(in rp_material m, in rp_incident s, vec3 wi, vec3 wo,
+                             out rp_lobes r, out float pdf) {
     r.surface = vec3(float(0.0));
     r.retro = vec3(float(0.0));
     r.diffuse = vec3(float(0.0));
+    pdf = float(0.0);
     float cosThetaO = wo.z;
     float tan2ThetaO = rp_tan2(wo);
     float lambdaO = rp_lambda(m.fidelity, tan2ThetaO, m.alpha);
@@ -1174,6 +1183,7 @@ void rp_eval_lobes(in rp_material m, in rp_incident s, vec3 wi, vec3 wo,
             float g2 = float(1.0) / (float(1.0) + lambdaI + lambdaO);
             float fs = fr * d * g2 / (float(4.0) * s.cosThetaI * cosThetaO);
             r.surface = vec3(m.specular * fs);
+            pdf += s.lobeProb.x * rp_surface_pdf_from_D(s, d);
         }
     }
     if (rp_mean3(m.retro_color) > float(0.0)) {
@@ -1184,6 +1194,7 @@ void rp_eval_lobes(in rp_material m, in rp_incident s, vec3 wi, vec3 wo,
                 float gHat = s.g1I * s.g1T * s.g1T * g1O;
                 float po = rp_retro_density(s, wo, wi);
                 r.retro = m.retro_color * (s.era * s.transI * transO * gHat * po / cosThetaO);
+                pdf += s.lobeProb.y * po;
             }
         } else {
             // Reciprocal form: E, G1(mu_t), alpha_o and the lobe frame at the mean direction
@@ -1197,6 +1208,8 @@ void rp_eval_lobes(in rp_material m, in rp_incident s, vec3 wi, vec3 wo,
                 r.retro = m.retro_color *
                           (sm.era * s.transI * transO * gHat * po / sqrt(s.cosThetaI * cosThetaO));
             }
+            // The sampling density is the paper's lobe about wi.
+            if (s.lobeProb.y > float(0.0)) pdf += s.lobeProb.y * rp_retro_density(s, wo, wi);
         }
     }
     // The light that reaches the substrate: (1 - E(mu_t(wi))) in the paper's form; in the
@@ -1208,9 +1221,17 @@ void rp_eval_lobes(in rp_material m, in rp_incident s, vec3 wi, vec3 wo,
         passed = sqrt(max(float(0.0), (float(1.0) - s.era) * (float(1.0) - so.era)));
     }
     r.diffuse = m.diffuse_scale * (s.transI * transO * passed);
+    pdf += s.lobeProb.z * cosThetaO * RP_INV_PI;
     r.surface *= m.weight;
     r.retro *= m.weight;
     r.diffuse *= m.weight;
+}
+
+// All three lobes at (wi, wo) given the incident state; wo.z >= RP_MIN_COS.
+void rp_eval_lobes(in rp_material m, in rp_incident s, vec3 wi, vec3 wo,
+                         out rp_lobes r) {
+    float pdf;
+    rp_eval_lobes_pdf(m, s, wi, wo, r, pdf);
 }
 
 // pdf of lobe k's own sampling at wo (solid angle measure, no mixture weight).
@@ -1219,15 +1240,6 @@ float rp_lobe_pdf(in rp_material m, in rp_incident s, vec3 wi, vec3 wo, int lobe
     if (lobe == RP_LOBE_RETRO) return rp_retro_density(s, wo, wi);
     if (lobe == RP_LOBE_DIFFUSE) return max(wo.z, float(0.0)) * RP_INV_PI;
     return float(0.0);
-}
-
-// Mixture pdf of rp_sample at wo: sum over the lobes of P_k pdf_k (MODEL.md section 4).
-float rp_pdf_mixture(in rp_material m, in rp_incident s, vec3 wi, vec3 wo) {
-    float pdf = float(0.0);
-    if (s.lobeProb.x > float(0.0)) pdf += s.lobeProb.x * rp_lobe_pdf(m, s, wi, wo, RP_LOBE_SURFACE);
-    if (s.lobeProb.y > float(0.0)) pdf += s.lobeProb.y * rp_lobe_pdf(m, s, wi, wo, RP_LOBE_RETRO);
-    if (s.lobeProb.z > float(0.0)) pdf += s.lobeProb.z * rp_lobe_pdf(m, s, wi, wo, RP_LOBE_DIFFUSE);
-    return pdf;
 }
 
 // A direction from lobe k's sampling routine for (u1, u2) in [0, 1]^2; it may lie below the
@@ -1267,8 +1279,7 @@ bool rp_eval(in rp_material m, vec3 wi, vec3 wo, out rp_lobes r, out float pdf) 
     if (!(wi.z >= RP_MIN_COS && wo.z >= RP_MIN_COS) || !(m.weight > float(0.0))) return false;
     rp_incident s;
     rp_incident_setup(m, wi, s);
-    rp_eval_lobes(m, s, wi, wo, r);
-    pdf = rp_pdf_mixture(m, s, wi, wo);
+    rp_eval_lobes_pdf(m, s, wi, wo, r, pdf);
     return true;
 }
 
@@ -1303,8 +1314,7 @@ bool rp_sample(in rp_material m, vec3 wi, vec3 u, out vec3 wo, out rp_lobes r,
         lobe = -1;
         return false;
     }
-    rp_eval_lobes(m, s, wi, wo, r);
-    pdf = rp_pdf_mixture(m, s, wi, wo);
+    rp_eval_lobes_pdf(m, s, wi, wo, r, pdf);
     if (!(pdf > float(0.0))) {
         lobe = -1;
         return false;

@@ -1,0 +1,269 @@
+#include "benchmarks.h"
+
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <cstdint>
+
+#include "baselines.h"
+#include "prismatic_retroreflector.h"
+#include "variants.h"
+
+namespace retroprism::bench {
+
+namespace {
+
+// A core namespace as a type: its material preparation, eval and sample.
+#define RP_ADAPTER(NAME, NS)                                                                       \
+    struct NAME {                                                                                  \
+        using real = NS::real;                                                                     \
+        using vec3 = NS::vec3;                                                                     \
+        using material = NS::rp_material;                                                          \
+        using lobes = NS::rp_lobes;                                                                \
+        static material prepare(const Params& p) {                                                 \
+            return NS::rp_prepare(                                                                 \
+                real(p.weight), vec3(p.diffuse_color[0], p.diffuse_color[1], p.diffuse_color[2]),  \
+                vec3(p.retro_color[0], p.retro_color[1], p.retro_color[2]), real(p.specular),      \
+                real(p.roughness), real(p.ior), p.prism_reflection, real(p.metal_reflectance),     \
+                p.era_mode, real(p.orientation), p.retro_lobe, p.reciprocal ? 1 : 0, p.fidelity);  \
+        }                                                                                          \
+        static bool eval(const material& m, vec3 wi, vec3 wo, lobes& r, real& pdf) {               \
+            return NS::rp_eval(m, wi, wo, r, pdf);                                                 \
+        }                                                                                          \
+        static bool sample(const material& m, vec3 wi, vec3 u, vec3& wo, lobes& r, real& pdf,      \
+                           int& lobe) {                                                            \
+            return NS::rp_sample(m, wi, u, wo, r, pdf, lobe);                                      \
+        }                                                                                          \
+    };
+
+RP_ADAPTER(Double, f64)
+RP_ADAPTER(Float, f32)
+RP_ADAPTER(RetroF32, variants::retro_f32)
+RP_ADAPTER(RetroDiffuseF32, variants::retro_diffuse_f32)
+RP_ADAPTER(AveragedIdealF32, variants::averaged_ideal_f32)
+RP_ADAPTER(AveragedIdealFastF32, variants::averaged_ideal_fast_f32)
+RP_ADAPTER(AveragedTirF32, variants::averaged_tir_f32)
+RP_ADAPTER(AveragedTirFastF32, variants::averaged_tir_fast_f32)
+#undef RP_ADAPTER
+
+struct Pair {
+    glm::dvec3 wi, wo;
+};
+
+// The direction pairs every row is timed and measured on (fixed seed): incident directions
+// over the hemisphere, outgoing ones a third each near the retro peak, near the mirror
+// direction and anywhere.
+const std::vector<Pair>& pairs() {
+    static const std::vector<Pair> set = [] {
+        std::vector<Pair> out;
+        std::uint64_t state = 12345;
+        auto uniform = [&]() {
+            state = state * 6364136223846793005ull + 1442695040888963407ull;
+            return double(state >> 11) * 0x1.0p-53;
+        };
+        auto dir = [](double cosTheta, double phi) {
+            double s = std::sqrt(std::max(0.0, 1.0 - cosTheta * cosTheta));
+            return glm::dvec3(s * std::cos(phi), s * std::sin(phi), cosTheta);
+        };
+        for (int i = 0; i < kPairs; ++i) {
+            glm::dvec3 wi = dir(0.05 + 0.95 * uniform(), 2 * M_PI * uniform());
+            glm::dvec3 wo;
+            const glm::dvec3 jitter(0.06 * (uniform() - 0.5), 0.06 * (uniform() - 0.5), 0.0);
+            if (i % 3 == 0)
+                wo = glm::normalize(wi + jitter);
+            else if (i % 3 == 1)
+                wo = glm::normalize(glm::dvec3(-wi.x, -wi.y, wi.z) + jitter);
+            else
+                wo = dir(0.02 + 0.98 * uniform(), 2 * M_PI * uniform());
+            if (wo.z < 0.01) wo = glm::normalize(glm::dvec3(wo.x, wo.y, 0.01));
+            out.push_back({wi, wo});
+        }
+        return out;
+    }();
+    return set;
+}
+
+template <class A>
+struct Prepared {
+    typename A::material m;
+    std::vector<typename A::vec3> wi, wo, u;
+    explicit Prepared(const Params& p) : m(A::prepare(sanitize(p))) {
+        using real = typename A::real;
+        std::uint64_t state = 99;
+        auto uniform = [&]() {
+            state = state * 6364136223846793005ull + 1442695040888963407ull;
+            return real(double(state >> 11) * 0x1.0p-53);
+        };
+        for (const Pair& q : pairs()) {
+            wi.push_back(typename A::vec3(q.wi));
+            wo.push_back(typename A::vec3(q.wo));
+            u.push_back(typename A::vec3(uniform(), uniform(), uniform()));
+        }
+    }
+};
+
+template <class A>
+void bm_eval(benchmark::State& state, Params p) {
+    Prepared<A> d(p);
+    typename A::lobes r;
+    typename A::real pdf = 0;
+    for (auto _ : state) {
+        for (int i = 0; i < kPairs; ++i) {
+            A::eval(d.m, d.wi[size_t(i)], d.wo[size_t(i)], r, pdf);
+            benchmark::DoNotOptimize(r);
+            benchmark::DoNotOptimize(pdf);
+        }
+    }
+    state.SetItemsProcessed(int64_t(state.iterations()) * kPairs);
+}
+
+template <class A>
+void bm_sample(benchmark::State& state, Params p) {
+    Prepared<A> d(p);
+    typename A::lobes r;
+    typename A::real pdf = 0;
+    typename A::vec3 wo;
+    int lobe = 0;
+    for (auto _ : state) {
+        for (int i = 0; i < kPairs; ++i) {
+            A::sample(d.m, d.wi[size_t(i)], d.u[size_t(i)], wo, r, pdf, lobe);
+            benchmark::DoNotOptimize(wo);
+            benchmark::DoNotOptimize(r);
+            benchmark::DoNotOptimize(pdf);
+        }
+    }
+    state.SetItemsProcessed(int64_t(state.iterations()) * kPairs);
+}
+
+template <class B>
+void bm_baseline(benchmark::State& state, B model) {
+    glm::dvec3 f(0.0);
+    for (auto _ : state) {
+        for (const Pair& q : pairs()) {
+            f = model.f(q.wi, q.wo);
+            benchmark::DoNotOptimize(f);
+        }
+    }
+    state.SetItemsProcessed(int64_t(state.iterations()) * kPairs);
+}
+
+// Relative L1 error of A with material p against the double reference with material ref,
+// over the lobes in `mask` (1 surface, 2 retro, 4 diffuse).
+template <class A>
+double error_of(const Params& p, const Params& ref, int mask) {
+    Prepared<A> d(p);
+    Prepared<Double> r(ref);
+    double num = 0, den = 0;
+    for (int i = 0; i < kPairs; ++i) {
+        typename A::lobes a;
+        Double::lobes b;
+        typename A::real pa = 0;
+        double pb = 0;
+        A::eval(d.m, d.wi[size_t(i)], d.wo[size_t(i)], a, pa);
+        Double::eval(r.m, r.wi[size_t(i)], r.wo[size_t(i)], b, pb);
+        const glm::dvec3 av[3] = {glm::dvec3(a.surface), glm::dvec3(a.retro),
+                                  glm::dvec3(a.diffuse)};
+        const glm::dvec3 bv[3] = {b.surface, b.retro, b.diffuse};
+        for (int k = 0; k < 3; ++k) {
+            if (!(mask & (1 << k))) continue;
+            for (int c = 0; c < 3; ++c) {
+                num += std::abs(av[k][c] - bv[k][c]);
+                den += std::abs(bv[k][c]);
+            }
+        }
+    }
+    return den > 0 ? num / den : 0.0;
+}
+
+Params material(int prism, int fidelity, double specular = 1.0) {
+    Params p;
+    p.prism_reflection = prism;
+    p.fidelity = fidelity;
+    p.specular = specular;
+    p.diffuse_color = {0.8, 0.8, 0.8};
+    return p;
+}
+
+template <class A>
+Row node_row(const std::string& name, const std::string& tier, const std::string& lobes,
+             const std::string& config, const Params& p, const Params& ref, int mask) {
+    benchmark::RegisterBenchmark(("eval/" + name).c_str(), bm_eval<A>, p);
+    benchmark::RegisterBenchmark(("sample_pdf/" + name).c_str(), bm_sample<A>, p);
+    Row r;
+    r.name = name;
+    r.tier = tier;
+    r.lobes = lobes;
+    r.config = config;
+    r.has_sample = true;
+    r.error = [p, ref, mask]() { return error_of<A>(p, ref, mask); };
+    return r;
+}
+
+template <class B>
+Row baseline_row(const std::string& name, const std::string& config, B model) {
+    benchmark::RegisterBenchmark(("eval/" + name).c_str(), bm_baseline<B>, model);
+    Row r;
+    r.name = name;
+    r.tier = "baseline";
+    r.lobes = name;
+    r.config = config;
+    r.baseline = true;
+    r.error = []() { return -1.0; };
+    return r;
+}
+
+} // namespace
+
+const std::vector<Row>& rows() {
+    static const std::vector<Row> all = [] {
+        const std::string all3 = "surface+retro+diffuse";
+        const Params ideal = material(0, 0), idealFast = material(0, 1);
+        const Params tir = material(1, 0), tirFast = material(1, 1);
+        const Params noSurface = material(0, 0, 0.0);
+        std::vector<Row> out;
+        out.push_back(node_row<Double>("reference", "reference", all3, "ideal prisms, double",
+                                       ideal, ideal, 7));
+        out.push_back(node_row<Float>("exact", "exact", all3, "ideal prisms, modes at run time",
+                                      ideal, ideal, 7));
+        out.push_back(node_row<AveragedIdealF32>("exact_fixed", "exact", all3,
+                                                 "ideal prisms, averaged ERA fixed at compile time",
+                                                 ideal, ideal, 7));
+        out.push_back(node_row<Float>("exact_specular_off", "exact", "retro+diffuse",
+                                      "surface lobe off at run time (specular 0)", noSurface,
+                                      noSurface, 6));
+        out.push_back(node_row<RetroDiffuseF32>("exact_retro_diffuse", "exact", "retro+diffuse",
+                                                "surface lobe left out at compile time", ideal,
+                                                ideal, 6));
+        out.push_back(node_row<RetroF32>("exact_retro", "exact", "retro",
+                                         "surface and diffuse lobes left out at compile time",
+                                         ideal, ideal, 2));
+        out.push_back(node_row<Float>("fast", "fast", all3, "ideal prisms, modes at run time",
+                                      idealFast, ideal, 7));
+        out.push_back(node_row<AveragedIdealFastF32>(
+            "fast_fixed", "fast", all3, "ideal prisms, averaged ERA fixed at compile time",
+            idealFast, ideal, 7));
+        out.push_back(node_row<Double>("reference_tir", "reference", all3,
+                                       "uncoated (tir) prisms, double", tir, tir, 7));
+        out.push_back(node_row<AveragedTirF32>(
+            "exact_tir_fixed", "exact", all3, "uncoated prisms, averaged ERA fixed at compile time",
+            tir, tir, 7));
+        out.push_back(node_row<AveragedTirFastF32>(
+            "fast_tir_fixed", "fast", all3, "uncoated prisms, averaged ERA fixed at compile time",
+            tirFast, tir, 7));
+        baselines::Lambert lambert;
+        baselines::BeckmannCookTorrance ct;
+        ct.roughness = 0.05;
+        ct.ior = 1.49;
+        baselines::RetroreflectiveGGX mrm;
+        mrm.roughness = 0.05;
+        mrm.ior = 1.49;
+        out.push_back(baseline_row("lambert", "Lambert, double", lambert));
+        out.push_back(baseline_row("beckmann_ct", "Beckmann Cook-Torrance, double", ct));
+        out.push_back(
+            baseline_row("mrm_ggx", "MaterialX-style retroreflective GGX + Lambert, double", mrm));
+        return out;
+    }();
+    return all;
+}
+
+} // namespace retroprism::bench
