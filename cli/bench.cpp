@@ -4,8 +4,13 @@
 // row's relative L1 error against the double reference; a cost-error plot with the Pareto front.
 #include <benchmark/benchmark.h>
 
+#include <sys/wait.h>
+
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <cstdio>
 #include <map>
 #include <string>
@@ -18,6 +23,8 @@
 
 #include "benchmarks.h"
 #include "commands.h"
+#include "gl_runner.h"
+#include "glsl_gen.h"
 #include "plot.h"
 #include "query.h"
 
@@ -56,6 +63,45 @@ struct Result {
     const bench::Row* row;
     double nsEval = 0, nsSample = -1, ratio = 0, error = -1;
 };
+
+// The GLSL variants' relative cost: SPIR-V instructions after optimisation, and evaluations per
+// second on this machine's OpenGL (llvmpipe without a GPU), excluding shader compilation.
+void glsl_costs(const std::string& sourceDir, bool json) {
+    const int n = 100000;
+    std::vector<std::array<Vec3d, 2>> pairs;
+    for (int i = 0; i < n; ++i) {
+        const double t = 0.05 + 1.4 * double((i * 7919LL) % n) / n;
+        const double p = 6.283 * double((i * 104729LL) % n) / n;
+        const Vec3d wi = {std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)};
+        pairs.push_back(
+            {wi, {-wi[0] * 0.9, -wi[1] * 0.9, std::sqrt(1.0 - 0.81 * (1.0 - wi[2] * wi[2]))}});
+    }
+    nlohmann::json rows = nlohmann::json::array();
+    if (!json)
+        std::printf("\n%-52s %14s %16s\n", "GLSL variant", "SPIR-V instr.", "llvmpipe eval/s");
+    for (const glsl::Variant& v : glsl::standard_variants()) {
+        const std::string lib = glsl::generate_library(v, sourceDir);
+        const long instr = glsl::spirv_instructions(lib, v.name);
+        gl::Runner runner(lib);
+        Params p;
+        if (v.era_mode >= 0) p.era_mode = v.era_mode;
+        if (v.prism_reflection >= 0) p.prism_reflection = v.prism_reflection;
+        if (v.fidelity >= 0) p.fidelity = v.fidelity;
+        runner.evaluate(p, {pairs.begin(), pairs.begin() + 64}); // warm up
+        const auto t0 = std::chrono::steady_clock::now();
+        runner.evaluate(p, pairs);
+        const double secs =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        const double rate = n / secs;
+        if (json)
+            rows.push_back({{"variant", v.name},
+                            {"spirv_instructions", instr},
+                            {"llvmpipe_evals_per_second", rate}});
+        else
+            std::printf("%-52s %14ld %16.3g\n", v.name.c_str(), instr, rate);
+    }
+    if (json) std::printf("%s\n", nlohmann::json{{"glsl", rows}}.dump(2).c_str());
+}
 
 void write_plot(const std::vector<Result>& results, const std::string& path) {
     using namespace plot;
@@ -128,8 +174,11 @@ void write_plot(const std::vector<Result>& results, const std::string& path) {
 int cmd_bench(int argc, const char** argv) {
     OIIO::ArgParse ap;
     ap.intro("retroprism bench: the speed/accuracy trade table (Google Benchmark, this machine)")
-        .usage("retroprism bench [--json] [--plot OUT.png] [--min-time SECONDS]");
+        .usage("retroprism bench [--json] [--plot OUT.png] [--min-time SECONDS] [--glsl]");
     ap.arg("--json").help("print the rows as JSON").store_true();
+    ap.arg("--glsl")
+        .help("also the GLSL variants' SPIR-V size and llvmpipe throughput")
+        .store_true();
     ap.arg("--plot OUT.png").help("write the cost-error plot with the Pareto front");
     ap.arg("--min-time SECONDS")
         .dest("min_time")
@@ -197,6 +246,7 @@ int cmd_bench(int argc, const char** argv) {
     }
     const std::string plotPath = ap["plot"].get<std::string>();
     if (!plotPath.empty()) write_plot(results, plotPath);
+    if (ap["glsl"].get<int>()) glsl_costs(RP_SOURCE_DIR_CLI, ap["json"].get<int>() != 0);
     return 0;
 }
 

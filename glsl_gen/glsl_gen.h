@@ -53,6 +53,11 @@ std::string generate_cpp_core(const Variant& v, const std::string& source_dir);
 // IM_rp_prismatic_retroreflector_bsdf_genglsl, function mx_rp_prismatic_retroreflector_bsdf.
 std::vector<std::pair<std::string, std::string>> generate_materialx(const std::string& source_dir);
 
+// The relative cost of a generated library: the instructions of its Vulkan fragment wrapper
+// after `spirv-opt -O` (glslangValidator, spirv-opt and spirv-dis on the PATH; constants and
+// the tables' data included), or -1 when the tools fail.
+long spirv_instructions(const std::string& library, const std::string& name);
+
 // The entry point's GLSL signature: the node inputs in table order, then the directions.
 std::string entry_signature();
 

@@ -272,3 +272,18 @@ TEST_CASE("bench --json prints the trade table's rows", "[cli]") {
     CHECK(sawFast);
     CHECK(run("bench --min-time 100").status != 0);
 }
+
+TEST_CASE("export --max-error picks the cheapest variant that fits the document", "[cli]") {
+    const fs::path out = fs::temp_directory_path() / "retroprism_test_export_choice";
+    fs::remove_all(out);
+    const std::string doc = std::string(RP_SOURCE_DIR) + "/examples/documents/white_sign.mtlx";
+    Run r = run("export --out " + out.string() + " --document " + doc + " --max-error 0");
+    REQUIRE(r.status == 0);
+    // white_sign: uncoated prisms in matched pairs, all three lobes: the variant fixing exactly
+    // those modes is the smallest that fits; with no error allowed the fast tier is out.
+    CHECK(contains(r.output, "chosen: prismatic_retroreflector_matched_pair_tir"));
+    CHECK(fs::exists(out / "glsl" / "selected_white_sign.glsl"));
+    Run bad = run("export --out " + out.string() + " --document " + doc + " --max-error 2");
+    CHECK(bad.status != 0);
+    CHECK(contains(bad.output, "--max-error 2: expected a relative error in [0, 1]"));
+}
