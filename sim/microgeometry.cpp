@@ -1,1 +1,906 @@
+// microgeometry.cpp: the microgeometry simulator (see microgeometry.h for what is simulated).
 #include "microgeometry.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <mutex>
+#include <thread>
+
+namespace retroprism {
+namespace sim {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kInvSqrtPi = 0.56418958354775628695;
+constexpr double kSqrt2Over3 = 0.81649658092772603273;
+constexpr double kInvSqrt3 = 0.57735026918962576451;
+constexpr double kSin120 = 0.86602540378443864676;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+int thread_count(int requested) {
+    if (requested > 0) return requested;
+    const unsigned hc = std::thread::hardware_concurrency();
+    return hc > 0 ? int(hc) : 1;
+}
+
+// Runs body(i) for i in [0, n) on `threads` threads (dynamic scheduling).
+void parallel_for(int n, int threads, const std::function<void(int)>& body) {
+    threads = std::max(1, std::min(threads, n));
+    if (threads == 1) {
+        for (int i = 0; i < n; ++i)
+            body(i);
+        return;
+    }
+    std::atomic<int> next{0};
+    std::vector<std::thread> pool;
+    for (int t = 0; t < threads; ++t)
+        pool.emplace_back([&] {
+            for (int i = next++; i < n; i = next++)
+                body(i);
+        });
+    for (std::thread& th : pool)
+        th.join();
+}
+
+std::uint64_t splitmix64(std::uint64_t& x) {
+    std::uint64_t z = (x += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+}
+
+std::uint64_t rotl(std::uint64_t x, int k) {
+    return (x << k) | (x >> (64 - k));
+}
+
+// Angle between unit vectors, accurate near 0 and pi.
+double angle_between(const dvec3& a, const dvec3& b) {
+    return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
+}
+
+} // namespace
+
+// ---- Random numbers ------------------------------------------------------------------------
+
+Rng::Rng(std::uint64_t seed, std::uint64_t stream) {
+    std::uint64_t x = seed ^ (0xD1B54A32D192ED03ull * (stream + 1));
+    for (std::uint64_t& s : s_)
+        s = splitmix64(x);
+}
+
+std::uint64_t Rng::next() {
+    const std::uint64_t result = rotl(s_[1] * 5, 7) * 9;
+    const std::uint64_t t = s_[1] << 17;
+    s_[2] ^= s_[0];
+    s_[3] ^= s_[1];
+    s_[1] ^= s_[2];
+    s_[0] ^= s_[3];
+    s_[2] ^= t;
+    s_[3] = rotl(s_[3], 45);
+    return result;
+}
+
+double Rng::uniform() {
+    return double(next() >> 11) * 0x1.0p-53;
+}
+
+double Rng::uniform_open() {
+    return (double(next() >> 11) + 0.5) * 0x1.0p-53;
+}
+
+// ---- Sheet ------------------------------------------------------------------------------------
+
+Sheet sheet_from_params(const Params& raw, int channel) {
+    const Params p = sanitize(raw);
+    Sheet s;
+    s.alpha = std::max(p.roughness, f64::RP_MIN_ALPHA);
+    s.eta = p.ior;
+    s.prism_reflection = p.prism_reflection;
+    s.metal_reflectance = p.metal_reflectance;
+    s.era_mode = p.era_mode;
+    s.orientation_deg = p.orientation;
+    s.kd = p.diffuse_color[size_t(std::clamp(channel, 0, 2))];
+    return s;
+}
+
+// ---- Top surface: Smith microsurface random walk ------------------------------------------------
+
+double smith_lambda(const dvec3& w, double alpha) {
+    if (w.z >= 1.0) return 0.0;
+    if (w.z <= -1.0) return -1.0;
+    const double tan2 = (w.x * w.x + w.y * w.y) / (w.z * w.z);
+    const double l = f64::rp_beckmann_lambda(tan2, alpha);
+    return w.z > 0 ? l : -1.0 - l;
+}
+
+namespace {
+
+// Slope x of a visible normal of the standard Beckmann surface (alpha = 1) seen from polar angle
+// theta in (0, pi) in the xz-plane: the inverse of the visible-slope CDF (Heitz & d'Eon 2014)
+// C(x) = G(x) / G(cot), G(x) = (sin exp(-x^2) / sqrt(pi) + cos erfc(-x)) / 2 for x <= cot,
+// written with erfc so that it holds for views from below the mean plane (cos < 0) too. Solved
+// by Newton's method safeguarded by bisection, to |G(x) - u G(cot)| <= 1e-14 G(cot).
+double visible_slope_x(double cosT, double sinT, double u) {
+    auto g = [&](double x) {
+        return 0.5 * (sinT * std::exp(-x * x) * kInvSqrtPi + cosT * std::erfc(-x));
+    };
+    const double cot = cosT / sinT;
+    double lo = -9.0, hi = std::min(cot, 9.0);
+    if (!(hi > lo)) return hi; // a view so far below that nothing is visible
+    const double total = g(hi);
+    if (!(total > 0)) return hi;
+    const double target = u * total;
+    // Start: the Gaussian quantile (exact for a view along the normal), inside the bracket.
+    double x =
+        cosT > 0 ? f64::rp_erfinv_giles(std::clamp(2.0 * u - 1.0, -0.999999, 0.999999)) : hi - 0.5;
+    if (!(x > lo && x < hi)) x = 0.5 * (lo + hi);
+    for (int it = 0; it < 200; ++it) {
+        const double v = g(x) - target;
+        if (std::abs(v) <= 1e-14 * total) break;
+        if (v > 0)
+            hi = x;
+        else
+            lo = x;
+        if (hi - lo < 1e-13) break;
+        const double dv = std::exp(-x * x) * kInvSqrtPi * (cosT - x * sinT);
+        double xn = dv > 0 ? x - v / dv : 0.5 * (lo + hi);
+        if (!(xn > lo && xn < hi)) xn = 0.5 * (lo + hi);
+        x = xn;
+    }
+    return x;
+}
+
+// Heights of the microsurface: uniform in [-1, 1] (any height distribution gives the same
+// Smith microsurface; Heitz et al. 2016, section 4.1).
+double height_cdf(double h) {
+    return std::clamp(0.5 * (h + 1.0), 0.0, 1.0);
+}
+double height_inverse(double c) {
+    return std::clamp(2.0 * c - 1.0, -1.0, 1.0);
+}
+
+// Height of the next intersection of a ray of direction w from height h above the mean
+// surface, or +inf when it leaves the microsurface (Heitz et al. 2016, Algorithm 2).
+double next_height(const dvec3& w, double h, double u, double alpha) {
+    if (std::abs(w.z) < 1e-12) return h; // grazing: hits at once
+    const double c1 = height_cdf(h);
+    const double lambda = smith_lambda(w, alpha);
+    double c;
+    if (w.z > 0) {
+        if (!(lambda > 0)) return kInf;
+        const double g1 = std::pow(c1, lambda); // probability of leaving
+        if (u >= 1.0 - g1) return kInf;
+        c = c1 / std::pow(1.0 - u, 1.0 / lambda);
+    } else {
+        c = c1 * std::pow(1.0 - u, -1.0 / lambda); // lambda <= -1: always hits
+    }
+    return height_inverse(c);
+}
+
+// Refraction of wIn (pointing away from the surface on the incident side, wIn.m = c > 0) at
+// the microfacet m into the medium of relative index e = n_t / n_i (no total internal
+// reflection: the Fresnel choice has already excluded it).
+dvec3 refract_dir(const dvec3& wIn, const dvec3& m, double c, double e) {
+    const double cos2T = std::max(0.0, 1.0 - (1.0 - c * c) / (e * e));
+    return glm::normalize(m * (c / e - std::sqrt(cos2T)) - wIn / e);
+}
+
+} // namespace
+
+dvec3 sample_visible_normal(const dvec3& w, double alpha, Rng& rng) {
+    const dvec3 ws = glm::normalize(dvec3(alpha * w.x, alpha * w.y, w.z));
+    const double sinT = std::sqrt(ws.x * ws.x + ws.y * ws.y);
+    const double u1 = rng.uniform_open();
+    const double r = std::sqrt(-std::log(rng.uniform_open()));
+    const double phi = 2.0 * kPi * rng.uniform();
+    // Slope y (and x at normal view): Gaussians of density exp(-s^2) / sqrt(pi) (Box-Muller).
+    const double sy = r * std::cos(phi);
+    double sx;
+    double cosPhi = 1.0, sinPhi = 0.0;
+    if (sinT < 1e-12) {
+        sx = r * std::sin(phi);
+    } else {
+        sx = visible_slope_x(ws.z, sinT, u1);
+        cosPhi = ws.x / sinT;
+        sinPhi = ws.y / sinT;
+    }
+    const double tx = alpha * (cosPhi * sx - sinPhi * sy);
+    const double ty = alpha * (sinPhi * sx + cosPhi * sy);
+    return glm::normalize(dvec3(-tx, -ty, 1.0));
+}
+
+Crossing cross_top_surface(const Sheet& sheet, const dvec3& dir, bool from_outside, Rng& rng) {
+    Crossing out;
+    dvec3 w = dir;
+    bool outside = from_outside;
+    double h = outside ? 2.0 : -2.0; // above / below every point of the microsurface
+    for (int order = 0; order <= kMaxWalkOrder; ++order) {
+        const double u = rng.uniform();
+        const double hn =
+            outside ? next_height(w, h, u, sheet.alpha) : -next_height(-w, -h, u, sheet.alpha);
+        if (!std::isfinite(hn)) {
+            out.dir = w;
+            out.outside = outside;
+            out.order = order;
+            return out;
+        }
+        h = hn;
+        if (order == kMaxWalkOrder) break;
+        // Scattering at a visible microfacet: normal seen from wIn on this side.
+        const dvec3 wIn = -w;
+        const dvec3 m = outside ? sample_visible_normal(wIn, sheet.alpha, rng)
+                                : -sample_visible_normal(-wIn, sheet.alpha, rng);
+        const double c = std::max(glm::dot(wIn, m), 0.0);
+        const double fr = outside ? f64::rp_fresnel_dielectric(c, sheet.eta)
+                                  : f64::rp_fresnel_internal(c, sheet.eta);
+        if (rng.uniform() < fr) {
+            w = glm::normalize(2.0 * c * m - wIn);
+        } else {
+            w = refract_dir(wIn, m, c, outside ? sheet.eta : 1.0 / sheet.eta);
+            outside = !outside;
+        }
+    }
+    out.dir = w;
+    out.outside = outside;
+    out.order = kMaxWalkOrder;
+    out.trapped = true;
+    return out;
+}
+
+// ---- Cube corner
+// ---------------------------------------------------------------------------------
+
+PrismOutcome trace_prism(const Sheet& sheet, const dvec3& d, Rng& rng) {
+    if (!(d.z < 0)) return kPrismMiss;
+    double psi = sheet.orientation_deg * (kPi / 180.0);
+    if (sheet.era_mode == f64::RP_ERA_AVERAGED) {
+        psi = 2.0 * kPi * rng.uniform();
+    } else if (sheet.era_mode == f64::RP_ERA_MATCHED_PAIR) {
+        if (rng.uniform() < 0.5) psi += kPi;
+    }
+    // Vertex directions v_k at psi + 120 k degrees; b_k = d.e_k, e_k = (sqrt(2/3) v_k, 1/sqrt3).
+    const double c0 = std::cos(psi), s0 = std::sin(psi);
+    const double vx[3] = {c0, -0.5 * c0 - kSin120 * s0, -0.5 * c0 + kSin120 * s0};
+    const double vy[3] = {s0, kSin120 * c0 - 0.5 * s0, -kSin120 * c0 - 0.5 * s0};
+    double b[3], a[3];
+    for (int k = 0; k < 3; ++k)
+        b[k] = kSqrt2Over3 * (vx[k] * d.x + vy[k] * d.y) + kInvSqrt3 * d.z;
+    // Uniform entry point on the aperture, in the coordinates a_k = x.e_k (the solid is
+    // a_k >= 0, a1 + a2 + a3 <= 1; the aperture a1 + a2 + a3 = 1).
+    double u = rng.uniform(), v = rng.uniform();
+    if (u + v > 1.0) {
+        u = 1.0 - u;
+        v = 1.0 - v;
+    }
+    a[0] = u;
+    a[1] = v;
+    a[2] = std::max(0.0, 1.0 - u - v);
+    int reflections = 0;
+    for (int step = 0; step < 4; ++step) {
+        // The convex solid: the first boundary plane met is where the ray leaves or hits.
+        double tBest = kInf;
+        int best = -1;
+        for (int k = 0; k < 3; ++k) {
+            if (b[k] < 0) {
+                const double t = std::max(a[k], 0.0) / -b[k];
+                if (t < tBest) {
+                    tBest = t;
+                    best = k;
+                }
+            }
+        }
+        const double sb = b[0] + b[1] + b[2];
+        if (sb > 0) {
+            const double tAp = std::max(0.0, 1.0 - (a[0] + a[1] + a[2])) / sb;
+            if (tAp <= tBest) break;
+        }
+        if (best < 0) break;
+        for (int k = 0; k < 3; ++k)
+            a[k] = std::max(0.0, a[k] + tBest * b[k]);
+        a[best] = 0.0;
+        const double cosK = -b[best];
+        if (sheet.prism_reflection == f64::RP_PRISM_TIR) {
+            const double r = f64::rp_fresnel_internal(cosK, sheet.eta);
+            if (r < 1.0 && rng.uniform() >= r) return kPrismTransmitted;
+        } else if (sheet.prism_reflection == f64::RP_PRISM_METALLIZED) {
+            if (rng.uniform() >= sheet.metal_reflectance) return kPrismAbsorbed;
+        }
+        b[best] = -b[best];
+        ++reflections;
+    }
+    return reflections == 3 ? kPrismRetro : kPrismMiss;
+}
+
+// ---- Paths -------------------------------------------------------------------------------------
+
+const char* fate_name(int fate) {
+    static const char* names[kFates] = {"exit_surface",         "exit_retro",
+                                        "exit_diffuse",         "absorbed_substrate",
+                                        "absorbed_prism_faces", "trapped"};
+    return fate >= 0 && fate < kFates ? names[fate] : "?";
+}
+
+const char* channel_name(int channel) {
+    static const char* names[kChannels] = {"surface", "surface_single", "retro", "diffuse"};
+    return channel >= 0 && channel < kChannels ? names[channel] : "?";
+}
+
+Path trace_path(const Sheet& sheet, const dvec3& wi, Rng& rng) {
+    Path p;
+    const Crossing in = cross_top_surface(sheet, -wi, true, rng);
+    if (in.trapped) return p;
+    if (in.outside) {
+        p.fate = kFateSurface;
+        p.wo = in.dir;
+        p.surface_order = in.order;
+        return p;
+    }
+    enum Where { kPrisms, kSubstrate, kUp };
+    Where where = kPrisms;
+    dvec3 d = in.dir; // downward, inside the sheet
+    dvec3 up(0.0);    // upward, inside the sheet
+    bool visited = false;
+    for (int event = 0; event < kMaxEvents; ++event) {
+        if (where == kPrisms) {
+            const PrismOutcome o = trace_prism(sheet, d, rng);
+            if (o == kPrismRetro) {
+                ++p.retroreflections;
+                up = -d;
+                where = kUp;
+            } else if (o == kPrismAbsorbed) {
+                p.fate = kFateAbsorbedFaces;
+                return p;
+            } else {
+                if (o == kPrismTransmitted) ++p.face_transmissions;
+                where = kSubstrate;
+            }
+        } else if (where == kSubstrate) {
+            visited = true;
+            ++p.substrate_hits;
+            if (rng.uniform() >= sheet.kd) {
+                p.fate = kFateAbsorbedSubstrate;
+                return p;
+            }
+            // Lambertian re-emission into the sheet (Malley's method).
+            const double u1 = rng.uniform(), phi = 2.0 * kPi * rng.uniform();
+            const double r = std::sqrt(u1);
+            up = dvec3(r * std::cos(phi), r * std::sin(phi), std::sqrt(std::max(0.0, 1.0 - u1)));
+            if (sheet.upward_through_prisms) {
+                // The adjoint of the way down along -up.
+                const PrismOutcome o = trace_prism(sheet, -up, rng);
+                if (o == kPrismRetro) continue; // back to the substrate
+                if (o == kPrismAbsorbed) {
+                    p.fate = kFateAbsorbedFaces;
+                    return p;
+                }
+                if (o == kPrismTransmitted) ++p.face_transmissions;
+            }
+            where = kUp;
+        } else {
+            const Crossing out = cross_top_surface(sheet, up, false, rng);
+            if (out.trapped) return p;
+            if (out.outside) {
+                p.fate = visited ? kFateDiffuse : kFateRetro;
+                p.wo = out.dir;
+                return p;
+            }
+            ++p.internal_reflections;
+            d = out.dir;
+            where = (visited && !sheet.upward_through_prisms) ? kSubstrate : kPrisms;
+        }
+    }
+    return p; // trapped
+}
+
+// ---- Grids
+// ----------------------------------------------------------------------------------------
+
+namespace {
+
+// Concentric map of Shirley & Chiu: square [-1, 1]^2 to the unit disk, area-preserving up to
+// the factor pi / 4, and its inverse.
+dvec2 square_to_disk(double a, double b) {
+    if (a == 0 && b == 0) return dvec2(0.0);
+    double r, phi;
+    if (std::abs(a) > std::abs(b)) {
+        r = a;
+        phi = (kPi / 4) * (b / a);
+    } else {
+        r = b;
+        phi = kPi / 2 - (kPi / 4) * (a / b);
+    }
+    return dvec2(r * std::cos(phi), r * std::sin(phi));
+}
+
+dvec2 disk_to_square(double x, double y) {
+    const double r = std::sqrt(x * x + y * y);
+    if (r == 0) return dvec2(0.0);
+    double phi = std::atan2(y, x); // (-pi, pi]
+    if (phi < -kPi / 4) phi += 2 * kPi;
+    if (phi < kPi / 4) return dvec2(r, r * phi * (4 / kPi));
+    if (phi < 3 * kPi / 4) return dvec2(r * (kPi / 2 - phi) * (4 / kPi), r);
+    if (phi < 5 * kPi / 4) return dvec2(-r, -r * (phi - kPi) * (4 / kPi));
+    return dvec2(-r * (3 * kPi / 2 - phi) * (4 / kPi), -r);
+}
+
+} // namespace
+
+bool Grid::params(const dvec3& w, double& x, double& y) const {
+    switch (kind) {
+    case kGnomonic: {
+        const double cp = glm::dot(w, c);
+        if (!(cp > 0)) return false;
+        x = glm::dot(w, e1) / cp;
+        y = glm::dot(w, e2) / cp;
+        return true;
+    }
+    case kDisk: {
+        if (!(w.z >= 0)) return false;
+        const dvec2 s = disk_to_square(w.x, w.y);
+        x = s.x;
+        y = s.y;
+        return true;
+    }
+    case kStrip: {
+        x = std::atan2(glm::dot(w, e1), glm::dot(w, c));
+        y = std::asin(std::clamp(glm::dot(w, e2), -1.0, 1.0));
+        return true;
+    }
+    case kCone: {
+        x = angle_between(w, c);
+        y = std::atan2(glm::dot(w, e2), glm::dot(w, e1));
+        if (y < 0) y += 2 * kPi;
+        return true;
+    }
+    }
+    return false;
+}
+
+dvec3 Grid::direction(double x, double y, double& jacobian) const {
+    switch (kind) {
+    case kGnomonic: {
+        const double q = 1.0 + x * x + y * y;
+        jacobian = 1.0 / (q * std::sqrt(q));
+        return glm::normalize(c + x * e1 + y * e2);
+    }
+    case kDisk: {
+        const dvec2 p = square_to_disk(x, y);
+        const double z = std::sqrt(std::max(0.0, 1.0 - p.x * p.x - p.y * p.y));
+        jacobian = z > 0 ? (kPi / 4) / z : 0.0;
+        return dvec3(p.x, p.y, z);
+    }
+    case kStrip: {
+        jacobian = std::cos(y);
+        return std::cos(y) * (std::sin(x) * e1 + std::cos(x) * c) + std::sin(y) * e2;
+    }
+    case kCone: {
+        jacobian = std::sin(x);
+        return std::cos(x) * c + std::sin(x) * (std::cos(y) * e1 + std::sin(y) * e2);
+    }
+    }
+    jacobian = 0;
+    return c;
+}
+
+int Grid::cell_of(const dvec3& w) const {
+    if (kind == kCone) return glm::dot(w, c) >= std::cos(x1) ? 0 : -1;
+    double x, y;
+    if (!params(w, x, y)) return -1;
+    if (!(x >= x0 && x < x1 && y >= y0 && y < y1)) {
+        // The disk's outer edge (x or y = 1) belongs to the last cell.
+        if (kind == kDisk && x >= x0 && x <= x1 && y >= y0 && y <= y1) {
+            x = std::min(x, std::nextafter(x1, x0));
+            y = std::min(y, std::nextafter(y1, y0));
+        } else {
+            return -1;
+        }
+    }
+    const int i = std::min(nx - 1, int((x - x0) / (x1 - x0) * nx));
+    const int j = std::min(ny - 1, int((y - y0) / (y1 - y0) * ny));
+    return j * nx + i;
+}
+
+dvec3 Grid::cell_centre(int cell) const {
+    const int i = cell % nx, j = cell / nx;
+    double jac;
+    if (kind == kCone) return c;
+    return direction(x0 + (i + 0.5) * (x1 - x0) / nx, y0 + (j + 0.5) * (y1 - y0) / ny, jac);
+}
+
+Grid gnomonic_grid(const std::string& name, const dvec3& centre, const dvec3& e1, const dvec3& e2,
+                   double halfX, double halfY, int nx, int ny) {
+    Grid g;
+    g.kind = Grid::kGnomonic;
+    g.name = name;
+    g.c = centre;
+    g.e1 = e1;
+    g.e2 = e2;
+    g.x0 = -halfX;
+    g.x1 = halfX;
+    g.y0 = -halfY;
+    g.y1 = halfY;
+    g.nx = nx;
+    g.ny = ny;
+    return g;
+}
+
+Grid disk_grid(const std::string& name, int n) {
+    Grid g;
+    g.kind = Grid::kDisk;
+    g.name = name;
+    g.nx = g.ny = n;
+    return g;
+}
+
+Grid strip_grid(const std::string& name, const dvec3& c, const dvec3& e1, int n,
+                double halfWidthRad) {
+    Grid g;
+    g.kind = Grid::kStrip;
+    g.name = name;
+    g.c = c;
+    g.e1 = e1;
+    g.e2 = glm::normalize(glm::cross(c, e1));
+    g.x0 = -kPi / 2;
+    g.x1 = kPi / 2;
+    g.y0 = -halfWidthRad;
+    g.y1 = halfWidthRad;
+    g.nx = n;
+    g.ny = 1;
+    return g;
+}
+
+Grid cone_grid(const std::string& name, const dvec3& axis, double radiusRad) {
+    Grid g;
+    g.kind = Grid::kCone;
+    g.name = name;
+    g.c = glm::normalize(axis);
+    // Any frame about the axis (Duff et al. 2017).
+    const double sgn = g.c.z >= 0 ? 1.0 : -1.0;
+    const double a = -1.0 / (sgn + g.c.z), b = g.c.x * g.c.y * a;
+    g.e1 = dvec3(1.0 + sgn * g.c.x * g.c.x * a, sgn * b, -sgn * g.c.x);
+    g.e2 = dvec3(b, sgn + g.c.y * g.c.y * a, -g.c.y);
+    g.x0 = 0;
+    g.x1 = radiusRad;
+    g.y0 = 0;
+    g.y1 = 2 * kPi;
+    return g;
+}
+
+void lobe_frame(const dvec3& w, dvec3& ePar, dvec3& ePerp) {
+    const double rxy = std::sqrt(w.x * w.x + w.y * w.y);
+    ePerp = rxy > 0 ? dvec3(-w.y / rxy, w.x / rxy, 0.0) : dvec3(0.0, 1.0, 0.0);
+    ePar = glm::cross(ePerp, w);
+}
+
+std::vector<Grid> standard_grids(const Sheet& sheet, const dvec3& wi, const GridOptions& opt) {
+    // The analytic retro widths (isotropic alpha_o and anisotropic alpha_par, alpha_perp).
+    Params p;
+    p.roughness = sheet.alpha;
+    p.ior = sheet.eta;
+    f64::rp_material m = prepare_material(sanitize(p));
+    f64::rp_incident iso, aniso;
+    f64::rp_incident_setup(m, wi, iso);
+    m.retro_anisotropic = 1;
+    f64::rp_incident_setup(m, wi, aniso);
+    const double hx = std::min(kLobeSpan * std::max(aniso.alphaPar, iso.alphaPar), kMaxSlope);
+    const double hy = std::min(kLobeSpan * std::max(aniso.alphaPerp, iso.alphaPerp), kMaxSlope);
+    std::vector<Grid> grids;
+    dvec3 ePar, ePerp;
+    lobe_frame(wi, ePar, ePerp);
+    grids.push_back(gnomonic_grid("retro", wi, ePar, ePerp, hx, hy, opt.nLobe, opt.nLobe));
+    const dvec3 wr(-wi.x, -wi.y, wi.z);
+    dvec3 rPar, rPerp;
+    lobe_frame(wr, rPar, rPerp);
+    const double hm = std::min(kLobeSpan * 2.0 * sheet.alpha, kMaxSlope);
+    grids.push_back(gnomonic_grid("mirror", wr, rPar, rPerp, hm, hm, opt.nLobe, opt.nLobe));
+    grids.push_back(disk_grid("hemisphere", opt.nDisk));
+    // The plane of incidence: x > 0 toward wi's azimuth (the light's side).
+    const double rxy = std::sqrt(wi.x * wi.x + wi.y * wi.y);
+    const dvec3 ex = rxy > 0 ? dvec3(wi.x / rxy, wi.y / rxy, 0.0) : dvec3(1.0, 0.0, 0.0);
+    const double half = opt.stripHalfWidthDeg * kPi / 180.0;
+    grids.push_back(strip_grid("in_plane", dvec3(0, 0, 1), ex, opt.nStrip, half));
+    grids.push_back(strip_grid("across", wi, ePerp, opt.nStrip, half));
+    return grids;
+}
+
+// ---- Simulation
+// ----------------------------------------------------------------------------------
+
+namespace {
+
+// A direction in the cone of half-angle r about c (frame e1, e2), with density proportional to
+// its cos(theta) (z component): uniform in solid angle, then accepted with probability
+// z / (largest z in the cone).
+dvec3 sample_cone(const dvec3& c, const dvec3& e1, const dvec3& e2, double r, Rng& rng) {
+    const double zMax = std::min(1.0, std::cos(std::max(0.0, std::acos(std::min(c.z, 1.0)) - r)));
+    for (;;) {
+        const double cosT = 1.0 - rng.uniform() * (1.0 - std::cos(r));
+        const double sinT = std::sqrt(std::max(0.0, 1.0 - cosT * cosT));
+        const double phi = 2.0 * kPi * rng.uniform();
+        const dvec3 w = cosT * c + sinT * (std::cos(phi) * e1 + std::sin(phi) * e2);
+        if (w.z > 0 && rng.uniform() * zMax < w.z) return glm::normalize(w);
+    }
+}
+
+} // namespace
+
+void Tally::add(const Tally& o) {
+    rays += o.rays;
+    for (int f = 0; f < kFates; ++f)
+        fates[size_t(f)] += o.fates[size_t(f)];
+    retro_primary += o.retro_primary;
+    retro_multiple += o.retro_multiple;
+    surface_single += o.surface_single;
+    substrate_hits += o.substrate_hits;
+    face_transmissions += o.face_transmissions;
+    internal_reflections += o.internal_reflections;
+    if (counts.size() < o.counts.size()) counts.resize(o.counts.size());
+    for (size_t g = 0; g < o.counts.size(); ++g) {
+        if (counts[g].size() < o.counts[g].size()) counts[g].resize(o.counts[g].size(), 0);
+        for (size_t i = 0; i < o.counts[g].size(); ++i)
+            counts[g][i] += o.counts[g][i];
+    }
+}
+
+Run simulate(const Sheet& sheet, const dvec3& wiIn, const std::vector<Grid>& grids,
+             const RunOptions& opt) {
+    const dvec3 wi = glm::normalize(wiIn);
+    Run run;
+    run.threads = thread_count(opt.threads);
+    const std::uint64_t chunks = (opt.rays + kChunkRays - 1) / kChunkRays;
+    run.threads = int(std::max<std::uint64_t>(1, std::min<std::uint64_t>(run.threads, chunks)));
+    std::vector<Tally> local(size_t(run.threads));
+    for (Tally& t : local) {
+        t.counts.resize(grids.size());
+        for (size_t g = 0; g < grids.size(); ++g)
+            t.counts[g].assign(size_t(grids[g].cells()) * kChannels, 0);
+    }
+    dvec3 e1, e2;
+    lobe_frame(wi, e1, e2);
+    std::atomic<std::uint64_t> nextChunk{0}, done{0};
+    auto worker = [&](int id) {
+        // A tally on this thread's own stack and heap (no false sharing of the per-ray counters
+        // between threads), handed over at the end.
+        Tally t = std::move(local[size_t(id)]);
+        for (std::uint64_t ch = nextChunk++; ch < chunks; ch = nextChunk++) {
+            Rng rng(opt.seed, ch);
+            const std::uint64_t n = std::min(kChunkRays, opt.rays - ch * kChunkRays);
+            for (std::uint64_t r = 0; r < n; ++r) {
+                dvec3 w = wi;
+                if (opt.incidence_cone > 0) w = sample_cone(wi, e1, e2, opt.incidence_cone, rng);
+                const Path p = trace_path(sheet, w, rng);
+                ++t.fates[size_t(p.fate)];
+                t.substrate_hits += std::uint64_t(p.substrate_hits);
+                t.face_transmissions += std::uint64_t(p.face_transmissions);
+                t.internal_reflections += std::uint64_t(p.internal_reflections);
+                int channel = -1;
+                bool single = false;
+                if (p.fate == kFateSurface) {
+                    channel = kSurface;
+                    single = p.surface_order == 1;
+                    if (single) ++t.surface_single;
+                } else if (p.fate == kFateRetro) {
+                    channel = kRetro;
+                    if (p.retroreflections == 1 && p.internal_reflections == 0) ++t.retro_primary;
+                    if (p.retroreflections > 1) ++t.retro_multiple;
+                } else if (p.fate == kFateDiffuse) {
+                    channel = kDiffuse;
+                }
+                if (channel < 0) continue;
+                for (size_t g = 0; g < grids.size(); ++g) {
+                    const int cell = grids[g].cell_of(p.wo);
+                    if (cell < 0) continue;
+                    t.counts[g][size_t(cell) * kChannels + size_t(channel)] += 1;
+                    if (single) t.counts[g][size_t(cell) * kChannels + kSurfaceSingle] += 1;
+                }
+            }
+            t.rays += n;
+            done += n;
+        }
+        local[size_t(id)] = std::move(t);
+    };
+    const auto t0 = std::chrono::steady_clock::now();
+    std::vector<std::thread> pool;
+    for (int i = 0; i < run.threads; ++i)
+        pool.emplace_back(worker, i);
+    if (opt.progress) {
+        while (done.load() < opt.rays) {
+            opt.progress(done.load(), opt.rays);
+            std::this_thread::sleep_for(std::chrono::milliseconds(100));
+        }
+        opt.progress(opt.rays, opt.rays);
+    }
+    for (std::thread& th : pool)
+        th.join();
+    run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    run.tally.counts.resize(grids.size());
+    for (size_t g = 0; g < grids.size(); ++g)
+        run.tally.counts[g].assign(size_t(grids[g].cells()) * kChannels, 0);
+    for (const Tally& t : local)
+        run.tally.add(t);
+    return run;
+}
+
+// ---- Estimates and analytic integrals
+// ----------------------------------------------------------------
+
+Estimate fraction(std::uint64_t count, std::uint64_t n) {
+    Estimate e;
+    if (n == 0) return e;
+    const double p = double(count) / double(n);
+    e.value = p;
+    e.se = std::sqrt(std::max(0.0, p * (1.0 - p)) / double(n));
+    return e;
+}
+
+Estimate cell_brdf(const Tally& t, int grid, int cell, int channel, double projected) {
+    Estimate e;
+    if (!(projected > 0) || t.rays == 0) return e;
+    const std::uint64_t c = t.counts[size_t(grid)][size_t(cell) * kChannels + size_t(channel)];
+    const Estimate fr = fraction(c, t.rays);
+    e.value = fr.value / projected;
+    e.se = fr.se / projected;
+    return e;
+}
+
+CellIntegrals integrate_cells(const Grid& g, int k, const CellFunction& f,
+                              const std::vector<Feature>& features, int minS, int maxS,
+                              int threads) {
+    CellIntegrals out;
+    out.k = k;
+    const int n = g.cells();
+    out.projected.assign(size_t(n), 0.0);
+    out.param_area.assign(size_t(n), 0.0);
+    out.values.assign(size_t(n) * size_t(k), 0.0);
+    const double dx = (g.x1 - g.x0) / g.nx, dy = (g.y1 - g.y0) / g.ny;
+    parallel_for(n, thread_count(threads), [&](int cell) {
+        const int i = cell % g.nx, j = cell / g.nx;
+        const double cx0 = g.x0 + i * dx, cy0 = g.y0 + j * dy;
+        // The cell's angular size: the widest angle from its centre to a corner or edge
+        // midpoint (the cone: its diameter).
+        double jac;
+        const dvec3 centre = g.cell_centre(cell);
+        double radius = 0;
+        if (g.kind == Grid::kCone) {
+            radius = g.x1;
+        } else {
+            for (int a = 0; a <= 2; ++a)
+                for (int b = 0; b <= 2; ++b)
+                    radius = std::max(radius,
+                                      angle_between(centre, g.direction(cx0 + 0.5 * a * dx,
+                                                                        cy0 + 0.5 * b * dy, jac)));
+        }
+        int s = minS;
+        for (const Feature& ft : features) {
+            const double dist = angle_between(centre, ft.dir);
+            if (dist < radius + 6.0 * ft.width)
+                s = std::max(s, int(std::ceil(3.0 * 2.0 * radius / ft.width)));
+        }
+        s = std::min(s, maxS);
+        std::vector<double> vals(static_cast<size_t>(k), 0.0);
+        double proj = 0, area = 0;
+        std::vector<double> acc(size_t(k), 0.0);
+        const double sx = dx / s, sy = dy / s;
+        for (int a = 0; a < s; ++a) {
+            for (int b = 0; b < s; ++b) {
+                const double x = cx0 + (a + 0.5) * sx, y = cy0 + (b + 0.5) * sy;
+                const dvec3 w = g.direction(x, y, jac);
+                if (!(w.z > 0)) continue;
+                const double weight = (g.kind == Grid::kDisk ? kPi / 4 : w.z * jac) * sx * sy;
+                proj += weight;
+                area += sx * sy;
+                if (k > 0) {
+                    f(w, vals.data());
+                    for (int q = 0; q < k; ++q)
+                        acc[size_t(q)] += weight * vals[size_t(q)];
+                }
+            }
+        }
+        out.projected[size_t(cell)] = proj;
+        out.param_area[size_t(cell)] = area;
+        for (int q = 0; q < k; ++q)
+            out.values[size_t(cell) * size_t(k) + size_t(q)] = acc[size_t(q)];
+    });
+    return out;
+}
+
+CellFunction model_function(const Params& params, const dvec3& wi) {
+    const f64::rp_material m = prepare_material(sanitize(params));
+    f64::rp_incident s;
+    f64::rp_incident_setup(m, wi, s);
+    return [m, s, wi](const dvec3& wo, double* out) {
+        out[0] = out[1] = out[2] = 0;
+        if (!(wo.z >= f64::RP_MIN_COS) || !(wi.z >= f64::RP_MIN_COS)) return;
+        f64::rp_lobes r;
+        f64::rp_eval_lobes(m, s, wi, wo, r);
+        out[0] = r.surface.x;
+        out[1] = r.retro.x;
+        out[2] = r.diffuse.x;
+    };
+}
+
+LobeFit fit_lobe(const Grid& g, const std::vector<double>& density, const std::vector<double>& w,
+                 const std::vector<char>& use) {
+    LobeFit fit;
+    // Normal equations of the 5-parameter linear model in (1, x, y, x^2, y^2).
+    double ata[5][5] = {}, atb[5] = {};
+    const double dx = (g.x1 - g.x0) / g.nx, dy = (g.y1 - g.y0) / g.ny;
+    int used = 0;
+    for (int cell = 0; cell < g.cells(); ++cell) {
+        if (!use[size_t(cell)] || !(density[size_t(cell)] > 0) || !(w[size_t(cell)] > 0)) continue;
+        const double x = g.x0 + (cell % g.nx + 0.5) * dx, y = g.y0 + (cell / g.nx + 0.5) * dy;
+        const double row[5] = {1.0, x, y, x * x, y * y};
+        const double v = std::log(density[size_t(cell)]);
+        for (int a = 0; a < 5; ++a) {
+            atb[a] += w[size_t(cell)] * row[a] * v;
+            for (int b = 0; b < 5; ++b)
+                ata[a][b] += w[size_t(cell)] * row[a] * row[b];
+        }
+        ++used;
+    }
+    fit.cells = used;
+    if (used < 8) return fit;
+    // Invert by Gauss-Jordan with partial pivoting.
+    double inv[5][5] = {};
+    double m[5][5];
+    for (int a = 0; a < 5; ++a)
+        for (int b = 0; b < 5; ++b) {
+            m[a][b] = ata[a][b];
+            inv[a][b] = a == b ? 1.0 : 0.0;
+        }
+    for (int col = 0; col < 5; ++col) {
+        int piv = col;
+        for (int r = col + 1; r < 5; ++r)
+            if (std::abs(m[r][col]) > std::abs(m[piv][col])) piv = r;
+        if (!(std::abs(m[piv][col]) > 1e-300)) return fit;
+        for (int b = 0; b < 5; ++b) {
+            std::swap(m[col][b], m[piv][b]);
+            std::swap(inv[col][b], inv[piv][b]);
+        }
+        const double d = m[col][col];
+        for (int b = 0; b < 5; ++b) {
+            m[col][b] /= d;
+            inv[col][b] /= d;
+        }
+        for (int r = 0; r < 5; ++r) {
+            if (r == col) continue;
+            const double factor = m[r][col];
+            for (int b = 0; b < 5; ++b) {
+                m[r][b] -= factor * m[col][b];
+                inv[r][b] -= factor * inv[col][b];
+            }
+        }
+    }
+    double coef[5] = {};
+    for (int a = 0; a < 5; ++a)
+        for (int b = 0; b < 5; ++b)
+            coef[a] += inv[a][b] * atb[b];
+    // Reduced chi-square of the weighted fit.
+    double chi2 = 0;
+    for (int cell = 0; cell < g.cells(); ++cell) {
+        if (!use[size_t(cell)] || !(density[size_t(cell)] > 0) || !(w[size_t(cell)] > 0)) continue;
+        const double x = g.x0 + (cell % g.nx + 0.5) * dx, y = g.y0 + (cell / g.nx + 0.5) * dy;
+        const double model =
+            coef[0] + coef[1] * x + coef[2] * y + coef[3] * x * x + coef[4] * y * y;
+        const double r = std::log(density[size_t(cell)]) - model;
+        chi2 += w[size_t(cell)] * r * r;
+    }
+    fit.chi2_reduced = chi2 / std::max(1, used - 5);
+    const double scale = std::max(1.0, fit.chi2_reduced);
+    if (!(coef[3] < 0) || !(coef[4] < 0)) return fit;
+    fit.ax = 1.0 / std::sqrt(-coef[3]);
+    fit.ay = 1.0 / std::sqrt(-coef[4]);
+    fit.se_ax = 0.5 * fit.ax * fit.ax * fit.ax * std::sqrt(inv[3][3] * scale);
+    fit.se_ay = 0.5 * fit.ay * fit.ay * fit.ay * std::sqrt(inv[4][4] * scale);
+    fit.mx = -coef[1] / (2 * coef[3]);
+    fit.my = -coef[2] / (2 * coef[4]);
+    fit.ok = true;
+    return fit;
+}
+
+} // namespace sim
+} // namespace retroprism
