@@ -140,12 +140,11 @@ double retro_fraction_tir_averaged_direct(double t, double eta) {
 }
 
 f64::rp_material prepare_material(const Params& p) {
-    return f64::rp_prepare(p.weight,
-                           f64::vec3(p.diffuse_color[0], p.diffuse_color[1], p.diffuse_color[2]),
-                           f64::vec3(p.retro_color[0], p.retro_color[1], p.retro_color[2]),
-                           p.specular, p.roughness, p.ior, p.prism_reflection, p.metal_reflectance,
-                           p.era_mode, p.orientation, p.retro_lobe, p.reciprocal ? 1 : 0,
-                           p.fidelity);
+    return f64::rp_prepare(
+        p.weight, f64::vec3(p.diffuse_color[0], p.diffuse_color[1], p.diffuse_color[2]),
+        f64::vec3(p.retro_color[0], p.retro_color[1], p.retro_color[2]), p.specular, p.roughness,
+        p.ior, p.prism_reflection, p.metal_reflectance, p.era_mode, p.orientation, p.retro_lobe,
+        p.reciprocal ? 1 : 0, p.fidelity);
 }
 
 namespace {

@@ -13,11 +13,11 @@ using namespace retroprism;
 
 namespace {
 
-const int kEraAvgN = 2049;
-const int kTirNt = 129;  // fast tier's table of the uncoated average: nodes over t
-const int kTirNeta = 81; // and over eta in [1, 3]
-const int kFdrN = 2049;                        // nodes over eta in [1, 3]
-const double kFdrEtaMax = 3.0;                 // nodes over t = tan(theta_t) in [0, sqrt 2]
+const int kEraAvgN = 2049; // nodes over t = tan(theta_t) in [0, sqrt 2]
+const int kTirNt = 129;    // fast tier's table of the uncoated average: nodes over t
+const int kTirNeta = 81;   // and over eta in [1, 3]
+const int kFdrN = 2049;    // F_dr table: nodes over eta in [1, 3]
+const double kFdrEtaMax = 3.0;
 const double kTanMax = 1.41421356237309504880; // A = 0 beyond theta_t = 54.74 deg
 
 void write_table(FILE* f, const char* name, const std::vector<double>& v) {
@@ -72,10 +72,10 @@ int main(int argc, char** argv) {
     std::fprintf(f, "const int RP_ERA_AVG_N = %d;\n", kEraAvgN);
     write_table(f, "rp_era_avg_table", era);
     std::fprintf(f, "// @rp-endif\n");
-    std::fprintf(f,
-                 "// rp_tir_avg_table: the fast tier's azimuth average of A R1 R2 R3 for uncoated\n"
-                 "// prisms (rp_retro_fraction_averaged_exact) at t as above with RP_TIR_NT nodes\n"
-                 "// and eta in [1, RP_TIR_ETA_MAX] with RP_TIR_NETA nodes; entry [j RP_TIR_NT + i].\n");
+    std::fprintf(
+        f, "// rp_tir_avg_table: the fast tier's azimuth average of A R1 R2 R3 for uncoated\n"
+           "// prisms (rp_retro_fraction_averaged_exact) at t as above with RP_TIR_NT nodes\n"
+           "// and eta in [1, RP_TIR_ETA_MAX] with RP_TIR_NETA nodes; entry [j RP_TIR_NT + i].\n");
     std::fprintf(f, "// @rp-if era_averaged&prism_tir&fidelity_fast\n");
     std::fprintf(f, "const int RP_TIR_NT = %d;\n", kTirNt);
     std::fprintf(f, "const int RP_TIR_NETA = %d;\n", kTirNeta);
