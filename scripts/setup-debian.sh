@@ -10,6 +10,7 @@ packages=(
   nlohmann-json3-dev libpugixml-dev catch2 libglm-dev libopencolorio-dev
   clang-format
   libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri glslang-tools spirv-tools
+  clang libclang-rt-14-dev llvm
 )
 
 # Node.js runs the MaterialX tool of the tests (any Node.js >= 18: Debian's or one present).
