@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <memory>
 
 #include "baselines.h"
 #include "prismatic_retroreflector.h"
@@ -29,6 +30,9 @@ namespace {
         }                                                                                          \
         static bool eval(const material& m, vec3 wi, vec3 wo, lobes& r, real& pdf) {               \
             return NS::rp_eval(m, wi, wo, r, pdf);                                                 \
+        }                                                                                          \
+        static bool eval_f(const material& m, vec3 wi, vec3 wo, lobes& r) {                        \
+            return NS::rp_eval_f(m, wi, wo, r);                                                    \
         }                                                                                          \
         static bool sample(const material& m, vec3 wi, vec3 u, vec3& wo, lobes& r, real& pdf,      \
                            int& lobe) {                                                            \
@@ -102,8 +106,23 @@ struct Prepared {
     }
 };
 
+// f alone (rp_eval_f), as the baselines are timed.
 template <class A>
 void bm_eval(benchmark::State& state, Params p) {
+    Prepared<A> d(p);
+    typename A::lobes r;
+    for (auto _ : state) {
+        for (int i = 0; i < kPairs; ++i) {
+            A::eval_f(d.m, d.wi[size_t(i)], d.wo[size_t(i)], r);
+            benchmark::DoNotOptimize(r);
+        }
+    }
+    state.SetItemsProcessed(int64_t(state.iterations()) * kPairs);
+}
+
+// f and the sampling pdf (rp_eval), as a renderer's light loop with MIS asks for them.
+template <class A>
+void bm_eval_pdf(benchmark::State& state, Params p) {
     Prepared<A> d(p);
     typename A::lobes r;
     typename A::real pdf = 0;
@@ -135,44 +154,37 @@ void bm_sample(benchmark::State& state, Params p) {
     state.SetItemsProcessed(int64_t(state.iterations()) * kPairs);
 }
 
+// A baseline in its own precision (float here, as the node's tiers), on the same pairs.
 template <class B>
 void bm_baseline(benchmark::State& state, B model) {
-    glm::dvec3 f(0.0);
+    using vec3 = typename B::vec3;
+    std::vector<vec3> wi, wo;
+    for (const Pair& q : pairs()) {
+        wi.push_back(vec3(q.wi));
+        wo.push_back(vec3(q.wo));
+    }
+    vec3 f(0);
     for (auto _ : state) {
-        for (const Pair& q : pairs()) {
-            f = model.f(q.wi, q.wo);
+        for (int i = 0; i < kPairs; ++i) {
+            f = model.f(wi[size_t(i)], wo[size_t(i)]);
             benchmark::DoNotOptimize(f);
         }
     }
     state.SetItemsProcessed(int64_t(state.iterations()) * kPairs);
 }
 
-// Relative L1 error of A with material p against the double reference with material ref,
-// over the lobes in `mask` (1 surface, 2 retro, 4 diffuse).
+// A prepared for material p, as a LocalEval.
 template <class A>
-double error_of(const Params& p, const Params& ref, int mask) {
-    Prepared<A> d(p);
-    Prepared<Double> r(ref);
-    double num = 0, den = 0;
-    for (int i = 0; i < kPairs; ++i) {
-        typename A::lobes a;
-        Double::lobes b;
-        typename A::real pa = 0;
-        double pb = 0;
-        A::eval(d.m, d.wi[size_t(i)], d.wo[size_t(i)], a, pa);
-        Double::eval(r.m, r.wi[size_t(i)], r.wo[size_t(i)], b, pb);
-        const glm::dvec3 av[3] = {glm::dvec3(a.surface), glm::dvec3(a.retro),
-                                  glm::dvec3(a.diffuse)};
-        const glm::dvec3 bv[3] = {b.surface, b.retro, b.diffuse};
-        for (int k = 0; k < 3; ++k) {
-            if (!(mask & (1 << k))) continue;
-            for (int c = 0; c < 3; ++c) {
-                num += std::abs(av[k][c] - bv[k][c]);
-                den += std::abs(bv[k][c]);
-            }
-        }
-    }
-    return den > 0 ? num / den : 0.0;
+LocalEval local_eval(const Params& p) {
+    const auto m = std::make_shared<const typename A::material>(A::prepare(sanitize(p)));
+    return [m](const glm::dvec3& wi, const glm::dvec3& wo, glm::dvec3 f[3]) {
+        using vec3 = typename A::vec3;
+        typename A::lobes r;
+        A::eval_f(*m, vec3(wi), vec3(wo), r);
+        f[0] = glm::dvec3(r.surface);
+        f[1] = glm::dvec3(r.retro);
+        f[2] = glm::dvec3(r.diffuse);
+    };
 }
 
 Params material(int prism, int fidelity, double specular = 1.0) {
@@ -188,6 +200,7 @@ template <class A>
 Row node_row(const std::string& name, const std::string& tier, const std::string& lobes,
              const std::string& config, const Params& p, const Params& ref, int mask) {
     benchmark::RegisterBenchmark(("eval/" + name).c_str(), bm_eval<A>, p);
+    benchmark::RegisterBenchmark(("eval_pdf/" + name).c_str(), bm_eval_pdf<A>, p);
     benchmark::RegisterBenchmark(("sample_pdf/" + name).c_str(), bm_sample<A>, p);
     Row r;
     r.name = name;
@@ -195,7 +208,10 @@ Row node_row(const std::string& name, const std::string& tier, const std::string
     r.lobes = lobes;
     r.config = config;
     r.has_sample = true;
-    r.error = [p, ref, mask]() { return error_of<A>(p, ref, mask); };
+    r.mask = mask;
+    r.material = p;
+    r.reference = ref;
+    r.make_eval = local_eval<A>;
     return r;
 }
 
@@ -208,7 +224,6 @@ Row baseline_row(const std::string& name, const std::string& config, B model) {
     r.lobes = name;
     r.config = config;
     r.baseline = true;
-    r.error = []() { return -1.0; };
     return r;
 }
 
@@ -244,23 +259,27 @@ const std::vector<Row>& rows() {
             idealFast, ideal, 7));
         out.push_back(node_row<Double>("reference_tir", "reference", all3,
                                        "uncoated (tir) prisms, double", tir, tir, 7));
+        out.push_back(node_row<Float>("exact_tir", "exact", all3,
+                                      "uncoated prisms, modes at run time", tir, tir, 7));
+        out.push_back(node_row<Float>("fast_tir", "fast", all3,
+                                      "uncoated prisms, modes at run time", tirFast, tir, 7));
         out.push_back(node_row<AveragedTirF32>(
             "exact_tir_fixed", "exact", all3, "uncoated prisms, averaged ERA fixed at compile time",
             tir, tir, 7));
         out.push_back(node_row<AveragedTirFastF32>(
             "fast_tir_fixed", "fast", all3, "uncoated prisms, averaged ERA fixed at compile time",
             tirFast, tir, 7));
-        baselines::Lambert lambert;
-        baselines::BeckmannCookTorrance ct;
-        ct.roughness = 0.05;
-        ct.ior = 1.49;
-        baselines::RetroreflectiveGGX mrm;
-        mrm.roughness = 0.05;
-        mrm.ior = 1.49;
-        out.push_back(baseline_row("lambert", "Lambert, double", lambert));
-        out.push_back(baseline_row("beckmann_ct", "Beckmann Cook-Torrance, double", ct));
+        baselines::LambertT<float> lambert;
+        baselines::BeckmannCookTorranceT<float> ct;
+        ct.roughness = 0.05f;
+        ct.ior = 1.49f;
+        baselines::RetroreflectiveGGXT<float> mrm;
+        mrm.roughness = 0.05f;
+        mrm.ior = 1.49f;
+        out.push_back(baseline_row("lambert", "Lambert, float", lambert));
+        out.push_back(baseline_row("beckmann_ct", "Beckmann Cook-Torrance, float", ct));
         out.push_back(
-            baseline_row("mrm_ggx", "MaterialX-style retroreflective GGX + Lambert, double", mrm));
+            baseline_row("mrm_ggx", "MaterialX-style retroreflective GGX + Lambert, float", mrm));
         return out;
     }();
     return all;

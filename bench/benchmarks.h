@@ -9,7 +9,15 @@
 #include <string>
 #include <vector>
 
+#include <glm/glm.hpp>
+
+#include "prismatic_retroreflector.h"
+
 namespace retroprism::bench {
+
+// A variant of the node prepared for one material: f per lobe (surface, retro, diffuse) at
+// local directions (unit, normal +z), computed in the variant's own precision.
+using LocalEval = std::function<void(const glm::dvec3& wi, const glm::dvec3& wo, glm::dvec3 f[3])>;
 
 struct Row {
     std::string name;   // the Google Benchmark name of its eval benchmark
@@ -18,14 +26,16 @@ struct Row {
     std::string config; // material and how the code is specialised
     bool baseline = false;
     bool has_sample = false;
-    // Relative L1 error against the double reference over the benchmark's direction pairs
-    // (sum |f - f_ref| / sum |f_ref| over the RGB of the lobes the row has); negative for
+    int mask = 0;     // the lobes the row has: 1 surface, 2 retro, 4 diffuse
+    Params material;  // the row's material (its modes are the ones the variant fixes)
+    Params reference; // the same material for the double reference (fidelity exact)
+    // The row's variant prepared for material p (p's modes must be the row's); empty for
     // baselines, which are other models.
-    std::function<double()> error;
+    std::function<LocalEval(const Params& p)> make_eval;
 };
 
-// The rows, in table order. Registers their Google Benchmark benchmarks (eval and, where the
-// row has one, sample + pdf) the first time it is called.
+// The rows, in table order. Registers their Google Benchmark benchmarks (eval, eval + pdf and,
+// where the row has one, sample + pdf) the first time it is called.
 const std::vector<Row>& rows();
 
 // Evaluations per benchmark iteration (the direction-pair set's size).

@@ -70,35 +70,41 @@ std::vector<Params> check_materials() {
 
 } // namespace
 
+std::vector<DirectionPair> standard_pairs(const Params& p) {
+    std::vector<DirectionPair> samples;
+    PrismaticRetroreflector<double> node(p);
+    const double alpha = std::max(p.roughness, 1e-4);
+    for (double thetaI : {0.0, 0.5, 10.0, 30.0, 45.0, 60.0, 75.0, 85.0, 89.5}) {
+        const double phiI = 20.0;
+        const Vec3d wiL = dir_deg(thetaI, phiI);
+        // Directions in the local frame, then into the parameter frame of the node.
+        std::vector<Vec3d> wos = {wiL, {-wiL[0], -wiL[1], wiL[2]}, {0, 0, 1}};
+        for (double s : {0.5, 1.0, 2.0, 3.0})
+            for (int axis = 0; axis < 2; ++axis) {
+                double dx = axis == 0 ? s * alpha : 0.0, dy = axis == 1 ? s * alpha : 0.0;
+                wos.push_back(float_dir(wiL[0] + dx, wiL[1] + dy, wiL[2]));
+                wos.push_back(float_dir(-wiL[0] + dx, -wiL[1] + dy, wiL[2]));
+            }
+        for (double thetaO : {5.0, 40.0, 70.0, 88.0, 89.99})
+            for (double phiO : {0.0, 90.0, 200.0, 290.0})
+                wos.push_back(dir_deg(thetaO, phiO));
+        wos.push_back(dir_deg(95.0, 0.0)); // below the horizon
+        auto toParent = [&](const Vec3d& l) {
+            glm::dvec3 w = node.to_world(glm::dvec3(l[0], l[1], l[2]));
+            return float_dir(w.x, w.y, w.z);
+        };
+        for (const Vec3d& wo : wos)
+            samples.push_back({toParent(wiL), toParent(wo)});
+    }
+    return samples;
+}
+
 std::vector<Query> check_query_set() {
     std::vector<Query> queries;
     for (const Params& p : check_materials()) {
         Query q;
         q.material = p;
-        PrismaticRetroreflector<double> node(p);
-        const double alpha = std::max(p.roughness, 1e-4);
-        for (double thetaI : {0.0, 0.5, 10.0, 30.0, 45.0, 60.0, 75.0, 85.0, 89.5}) {
-            const double phiI = 20.0;
-            const Vec3d wiL = dir_deg(thetaI, phiI);
-            // Directions in the local frame, then into the parameter frame of the node.
-            std::vector<Vec3d> wos = {wiL, {-wiL[0], -wiL[1], wiL[2]}, {0, 0, 1}};
-            for (double s : {0.5, 1.0, 2.0, 3.0})
-                for (int axis = 0; axis < 2; ++axis) {
-                    double dx = axis == 0 ? s * alpha : 0.0, dy = axis == 1 ? s * alpha : 0.0;
-                    wos.push_back(float_dir(wiL[0] + dx, wiL[1] + dy, wiL[2]));
-                    wos.push_back(float_dir(-wiL[0] + dx, -wiL[1] + dy, wiL[2]));
-                }
-            for (double thetaO : {5.0, 40.0, 70.0, 88.0, 89.99})
-                for (double phiO : {0.0, 90.0, 200.0, 290.0})
-                    wos.push_back(dir_deg(thetaO, phiO));
-            wos.push_back(dir_deg(95.0, 0.0)); // below the horizon
-            auto toParent = [&](const Vec3d& l) {
-                glm::dvec3 w = node.to_world(glm::dvec3(l[0], l[1], l[2]));
-                return float_dir(w.x, w.y, w.z);
-            };
-            for (const Vec3d& wo : wos)
-                q.samples.push_back({toParent(wiL), toParent(wo)});
-        }
+        q.samples = standard_pairs(p);
         queries.push_back(q);
     }
     return queries;

@@ -43,6 +43,12 @@ struct ToleranceContract {
 // scale around them, over the hemisphere, at grazing and below the horizon. Every direction and
 // parameter is float-representable (directions unit within 1e-6), so all backends see the same
 // inputs.
+// The standard direction pairs for material p (360: nine incident directions, each with the
+// retro and mirror peaks, their neighbours at 0.5 to 3 roughness widths, the normal, 20
+// directions over the hemisphere and one below it), in the frame of p's normal and tangent,
+// rounded to float.
+std::vector<DirectionPair> standard_pairs(const Params& p);
+
 std::vector<Query> check_query_set();
 
 struct CheckReport {

@@ -26,12 +26,10 @@ json read_json(const std::string& path) {
         text = ss.str();
     }
     const std::string name = path == "-" ? "<stdin>" : path;
-    try {
-        return json::parse(text);
-    } catch (const json::parse_error& e) {
-        // Report the line and column of the byte offset nlohmann gives.
+    // "file:line:column" of a byte offset.
+    auto where = [&](size_t byte) {
         size_t line = 1, col = 1;
-        for (size_t i = 0; i < e.byte && i < text.size(); ++i) {
+        for (size_t i = 0; i < byte && i < text.size(); ++i) {
             if (text[i] == '\n') {
                 ++line;
                 col = 1;
@@ -39,8 +37,23 @@ json read_json(const std::string& path) {
                 ++col;
             }
         }
-        throw InputError(name + ":" + std::to_string(line) + ":" + std::to_string(col) +
-                         ": invalid JSON (" + e.what() + ")");
+        return name + ":" + std::to_string(line) + ":" + std::to_string(col);
+    };
+    try {
+        return json::parse(text);
+    } catch (const json::parse_error& e) {
+        // nlohmann gives the byte offset of the error.
+        throw InputError(where(e.byte) + ": invalid JSON (" + e.what() + ")");
+    } catch (const json::out_of_range& e) {
+        // A number beyond double's range (error 406, "number overflow parsing '1e400'"): no
+        // offset is given, so the number's first occurrence in the text is reported.
+        const std::string msg = e.what();
+        const size_t open = msg.find("parsing '");
+        const size_t close = open == std::string::npos ? open : msg.find('\'', open + 9);
+        size_t at = std::string::npos;
+        if (close != std::string::npos) at = text.find(msg.substr(open + 9, close - open - 9));
+        throw InputError((at == std::string::npos ? name : where(at)) +
+                         ": a number beyond double's range (" + msg + ")");
     }
 }
 

@@ -101,8 +101,9 @@ double next_f(double x, double toward) {
 // ---- Materials --------------------------------------------------------------------------
 
 // The hard values of a float input with range [lo, hi] and default def: the range ends, their
-// neighbours in double and float, the default, the centre, signed zero, denormals, values
-// outside the range, the largest doubles, infinities and NaN (both signs).
+// neighbours in double and float, the default, the centre, signed zero, denormals (double's
+// smallest, and 1e-40, a float denormal), values outside the range, the largest doubles,
+// infinities and NaN (both signs).
 std::vector<double> float_hard_values(double lo, double hi, double def) {
     return {lo,
             hi,
@@ -118,7 +119,7 @@ std::vector<double> float_hard_values(double lo, double hi, double def) {
             next_f(hi, kInf),
             -0.0,
             kDblDenorm,
-            1e-40, // a float denormal
+            1e-40,
             -1e-40,
             1e-30,
             -1.0,
@@ -253,12 +254,13 @@ std::vector<Vec3d> normal_hard_values() {
             {0.3, 0.4, 2.0}};
 }
 
+// Tangents: parallel to the default normal (either way), zero, non-finite, nearly parallel
+// (squared orthogonal part 1e-14, below the 1e-12 threshold; at it; above it), opposite,
+// oblique, huge, tiny, float-denormal, and along the bitangent.
 std::vector<Vec3d> tangent_hard_values() {
-    return {{1, 0, 0},           {0, 0, 1}, // parallel to the default normal
-            {0, 0, -1},          {0, 0, 0},     {kNaN, kNaN, kNaN}, {kInf, 0, 0},
-            {1e-7, 0, 1}, // nearly parallel: squared orthogonal part 1e-14 < 1e-12
-            {1e-6, 0, 1}, // at the 1e-12 threshold
-            {2e-6, 0, 1},        {-1, 0, 0},    {0.3, 0.9, 0.1},    {1e200, 1e200, 0},
+    return {{1, 0, 0},           {0, 0, 1},     {0, 0, -1},      {0, 0, 0},
+            {kNaN, kNaN, kNaN},  {kInf, 0, 0},  {1e-7, 0, 1},    {1e-6, 0, 1},
+            {2e-6, 0, 1},        {-1, 0, 0},    {0.3, 0.9, 0.1}, {1e200, 1e200, 0},
             {1e-200, 1e-200, 0}, {1e-40, 0, 0}, {0, 1, 0}};
 }
 
@@ -604,16 +606,16 @@ std::vector<glm::dvec3> incident_set(Rng& rng, double alpha) {
     return out;
 }
 
-// Scaled, zero and non-finite versions of a direction (in the parameter frame).
+// Zero, non-finite and scaled versions of a direction (in the parameter frame): scaled so that
+// its squared length underflows in float (1e-20), in double (1e-160: a double denormal),
+// overflows a float (1e19 is still finite in float, 1e200 is not), stays within RP_UNIT_TOL
+// of unit (used as given) or just beyond it (renormalised), or is simply not unit.
 std::vector<Vec3d> degenerate_versions(const Vec3d& w) {
     auto scaled = [&](double s) { return Vec3d{w[0] * s, w[1] * s, w[2] * s}; };
-    return {{0, 0, 0},          {-0.0, -0.0, -0.0}, {kNaN, kNaN, kNaN},    {w[0], w[1], kNaN},
-            {kInf, 0, 0},       {0, 0, kInf},       {-kInf, -kInf, -kInf}, scaled(1e-30),
-            scaled(1e-20),
-            scaled(1e-160), // squared length a double denormal      scaled(1e19), scaled(1e200),
-            scaled(1.0 + 5e-7), // within RP_UNIT_TOL of unit: used as given
-            scaled(1.0 + 2e-6), // beyond it: renormalised
-            scaled(7.5)};
+    return {
+        {0, 0, 0},    {-0.0, -0.0, -0.0},    {kNaN, kNaN, kNaN}, {w[0], w[1], kNaN}, {kInf, 0, 0},
+        {0, 0, kInf}, {-kInf, -kInf, -kInf}, scaled(1e-30),      scaled(1e-20),      scaled(1e-160),
+        scaled(1e19), scaled(1e200),         scaled(1.0 + 5e-7), scaled(1.0 + 2e-6), scaled(7.5)};
 }
 
 std::vector<DirectionPair> stress_pairs(const Params& p, bool floatInputs, std::uint64_t seed) {
@@ -1066,13 +1068,22 @@ void sweep_cpp(const Params& p, const std::string& label, const std::vector<Dire
 
 // A GL backend (glsl, materialx) over one material, through answer_query (the materials and
 // directions go in unchecked: the JSON reader would reject most of them).
+// The pairs go in queries of `batch` pairs (all of them when 0): a GL backend lays a query
+// out over its work groups or render target by its size, and a fault may depend on the layout
+// (the materialx backend's render target, read back by MaterialX's environment lookups, did).
 void sweep_gl(const std::string& backend, const Params& p, const std::string& label,
-              const std::vector<DirectionPair>& pairs, Tally& t) {
-    Query q;
-    q.material = p;
-    q.samples = pairs;
-    const json answer = answer_query(q, backend);
-    const json& results = answer.at("results");
+              const std::vector<DirectionPair>& pairs, size_t batch, Tally& t) {
+    json results = json::array();
+    if (batch == 0) batch = pairs.size();
+    for (size_t start = 0; start < pairs.size(); start += batch) {
+        Query q;
+        q.material = p;
+        q.samples.assign(pairs.begin() + long(start),
+                         pairs.begin() + long(std::min(pairs.size(), start + batch)));
+        const json answer = answer_query(q, backend);
+        for (const json& r : answer.at("results"))
+            results.push_back(r);
+    }
     if (results.size() != pairs.size())
         throw std::runtime_error(backend + " answered " + std::to_string(results.size()) +
                                  " results for " + std::to_string(pairs.size()) + " pairs");
@@ -1200,7 +1211,9 @@ Tally run_backend(const std::string& backend, const Options& opt) {
         for (long i = 0; total.evaluations < target; ++i) {
             std::string label;
             const Params p = material(i, &label);
-            sweep_gl(backend, p, label, material_pairs(p, i, true, opt), total);
+            // One query per material, or batches of 5, 61, 256 or 700 pairs, in turn.
+            const size_t batches[] = {0, 5, 61, 256, 700};
+            sweep_gl(backend, p, label, material_pairs(p, i, true, opt), batches[i % 5], total);
         }
     }
     total.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

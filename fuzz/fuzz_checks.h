@@ -222,6 +222,31 @@ void check_closure_real(Bytes& in) {
     const bool wiValid = weighted && valid(wi, wiL);
     const bool pairValid = wiValid && valid(wo, woL);
 
+    // The frame is orthonormal, and a direction comes into it unit (or as given, when it is
+    // within RP_UNIT_TOL of unit): otherwise to_world does not invert to_local and the core
+    // sees a direction of the wrong length.
+    const double eps = double(std::numeric_limits<Real>::epsilon());
+    const glm::dvec3 axes[3] = {glm::dvec3(node.to_world(vec3(Real(1), Real(0), Real(0)))),
+                                glm::dvec3(node.to_world(vec3(Real(0), Real(1), Real(0)))),
+                                glm::dvec3(node.to_world(vec3(Real(0), Real(0), Real(1))))};
+    for (int i = 0; i < 3; ++i)
+        for (int j = i; j < 3; ++j)
+            if (!(std::abs(glm::dot(axes[i], axes[j]) - (i == j ? 1.0 : 0.0)) <= 8 * eps))
+                fail("the frame is not orthonormal (axes " + std::to_string(i) + ", " +
+                     std::to_string(j) + ")");
+    for (const vec3& w : {wi, wo}) {
+        vec3 local;
+        if (!node.to_local(w, local)) continue;
+        const glm::dvec3 wd(w);
+        const double len2 = glm::dot(wd, wd);
+        const double expected =
+            std::abs(double(glm::dot(w, w)) - 1.0) <= 1e-6 ? std::sqrt(len2) : 1.0;
+        const double length = glm::length(glm::dvec3(local));
+        if (!(std::abs(length - expected) <= 16 * eps * expected))
+            fail("to_local gave a direction of length " + hexfloat(length) + " for " +
+                 describe_vec(w));
+    }
+
     // eval and pdf.
     const typename Node::Eval e = node.eval(wi, wo);
     bool zero = e.pdf == Real(0);

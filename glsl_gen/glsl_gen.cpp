@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <regex>
 #include <sstream>
 #include <stdexcept>
@@ -523,7 +524,11 @@ std::vector<std::pair<std::string, std::string>> generate_materialx(const std::s
             xml_escape(kNodeDoc) + "\">\n";
     std::string params; // GLSL parameter list of the MaterialX function, in nodedef order
     std::string args;   // the same names, passed on to the entry point
+    // "rp_sanitize(name, lo, hi, default)" of each float input, for the environment lookups.
+    std::map<std::string, std::string> sanitized;
 #define RP_FLOAT(name, def, lo, hi, doc)                                                           \
+    sanitized[#name] =                                                                             \
+        "rp_sanitize(" #name ", " + lit(lo) + ", " + lit(hi) + ", " + lit(def) + ")";              \
     defs += "    <input name=\"" #name "\" type=\"float\" value=\"" + mtlx_num(def) +              \
             "\" uimin=\"" + mtlx_num(lo) + "\" uimax=\"" + mtlx_num(hi) +                          \
             "\"\n           doc=\"" + xml_escape(doc) + "\"/>\n";                                  \
@@ -604,6 +609,10 @@ std::vector<std::pair<std::string, std::string>> generate_materialx(const std::s
         "    bsdf.throughput = vec3(0.0);\n"
         "    vec3 V = closureData.V;\n"
         "    vec3 N = mx_forward_facing_normal(normal, V);\n"
+        "    vec3 fN;\n"
+        "    vec3 fT;\n"
+        "    vec3 fB;\n"
+        "    rp_make_frame(N, tangent, fN, fT, fB);\n"
         "    if (closureData.closureType == CLOSURE_TYPE_REFLECTION)\n"
         "    {\n"
         "        vec3 L = closureData.L;\n"
@@ -614,10 +623,6 @@ std::vector<std::pair<std::string, std::string>> generate_materialx(const std::s
         "        rp_prismatic_retroreflector_eval(" +
         args.substr(0, args.find("normal, ")) +
         "N, tangent, L, V, surface, retro, diffuse, pdf);\n"
-        "        vec3 fN;\n"
-        "        vec3 fT;\n"
-        "        vec3 fB;\n"
-        "        rp_make_frame(N, tangent, fN, fT, fB);\n"
         "        float NdotL = max(dot(fN, L), 0.0);\n"
         "        bsdf.response = (surface + retro + diffuse) * NdotL * closureData.occlusion;\n"
         "    }\n"
@@ -630,12 +635,30 @@ std::vector<std::pair<std::string, std::string>> generate_materialx(const std::s
         "        rp_prismatic_retroreflector_estimates(" +
         args.substr(0, args.find("normal, ")) +
         "N, tangent, V, albedoSurface, albedoRetro, albedoDiffuse, alphaO);\n"
-        "        float ks = rp_sanitize(specular, 0.0, 1.0, 1.0);\n"
-        "        float w = rp_sanitize(weight, 0.0, 1.0, 1.0);\n"
-        "        float alphaS = clamp(roughness, M_FLOAT_EPS, 1.0);\n"
+        "        // MaterialX's environment integrals divide by N.V: a view at or below the\n"
+        "        // horizon of the node's frame (where the estimates are zero) gets no\n"
+        "        // environment light, and the integrals see the node's frame (a tangent along\n"
+        "        // the normal is replaced as in the node).\n"
+        "        vec3 vLocal;\n"
+        "        if (!rp_to_local(fN, fT, fB, V, vLocal) || !(vLocal.z >= RP_MIN_COS)) {\n"
+        "            bsdf.response = vec3(0.0);\n"
+        "            return;\n"
+        "        }\n"
+        "        float ks = " +
+        sanitized.at("specular") +
+        ";\n"
+        "        float w = " +
+        sanitized.at("weight") +
+        ";\n"
+        "        float alphaS = max(" +
+        sanitized.at("roughness") +
+        ", M_FLOAT_EPS);\n"
+        "        float eta = " +
+        sanitized.at("ior") +
+        ";\n"
         "        // mx_environment_radiance applies the dielectric's Fresnel itself.\n"
-        "        vec3 Ls = ks > 0.0 ? mx_environment_radiance(N, V, tangent, vec2(alphaS), 0,\n"
-        "                                   mx_init_fresnel_dielectric(ior, 0.0, 1.0)) * ks : "
+        "        vec3 Ls = ks > 0.0 ? mx_environment_radiance(fN, V, fT, vec2(alphaS), 0,\n"
+        "                                   mx_init_fresnel_dielectric(eta, 0.0, 1.0)) * ks : "
         "vec3(0.0);\n"
         "        vec3 X = abs(V.z) < 0.999 ? normalize(cross(V, vec3(0.0, 0.0, 1.0))) : vec3(1.0, "
         "0.0, 0.0);\n"
@@ -643,7 +666,7 @@ std::vector<std::pair<std::string, std::string>> generate_materialx(const std::s
         "        vec3 Lr = mx_environment_radiance(V, V, X, vec2(alphaR), 0,\n"
         "                      mx_init_fresnel_schlick(vec3(1.0), vec3(1.0), vec3(1.0), 5.0, 0.0, "
         "1.0));\n"
-        "        vec3 Ld = mx_environment_irradiance(N);\n"
+        "        vec3 Ld = mx_environment_irradiance(fN);\n"
         "        bsdf.response = w * (Ls + Lr * albedoRetro + Ld * albedoDiffuse) * "
         "closureData.occlusion;\n"
         "    }\n"

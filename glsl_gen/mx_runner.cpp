@@ -105,10 +105,19 @@ MaterialXRunner::MaterialXRunner(const std::string& sourceDir, const std::string
     glGenBuffers(1, &vbo_);
     glGenFramebuffers(1, &fbo_);
     glGenTextures(1, &colorTex_);
+    glGenTextures(1, &envTex_);
+    const float black[4] = {0, 0, 0, 0};
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_2D, envTex_);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, 1, 1, 0, GL_RGBA, GL_FLOAT, black);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glActiveTexture(GL_TEXTURE0);
 }
 
 MaterialXRunner::~MaterialXRunner() {
     context_.use();
+    glDeleteTextures(1, &envTex_);
     glDeleteTextures(1, &colorTex_);
     glDeleteFramebuffers(1, &fbo_);
     glDeleteBuffers(1, &vbo_);
@@ -136,6 +145,7 @@ void MaterialXRunner::set_material(const Params& p) {
 #undef RP_BOOL
     // No environment light: only the lights given contribute.
     glUniform1f(glGetUniformLocation(program_, "u_envLightIntensity"), 0.0f);
+    bind_environment(program_, envTex_);
 }
 
 namespace {
@@ -166,6 +176,7 @@ void upload_quad(unsigned program, unsigned vao, unsigned vbo, const Vec3d& n, c
 }
 
 void target(unsigned fbo, unsigned tex, int w, int h) {
+    glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, tex);
     glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, w, h, 0, GL_RGBA, GL_FLOAT, nullptr);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
@@ -203,6 +214,17 @@ void set_matrices(unsigned program, const Mat4& viewProjection) {
 }
 
 } // namespace
+
+// The environment samplers read the black texture on unit 1.
+void MaterialXRunner::bind_environment(unsigned program, unsigned envTex) {
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_2D, envTex);
+    glActiveTexture(GL_TEXTURE0);
+    for (const char* name : {"u_envRadiance", "u_envIrradiance"}) {
+        const GLint loc = glGetUniformLocation(program, name);
+        if (loc >= 0) glUniform1i(loc, 1);
+    }
+}
 
 std::vector<Result> MaterialXRunner::evaluate(const Params& p,
                                               const std::vector<std::array<Vec3d, 2>>& pairs) {
@@ -313,6 +335,7 @@ MxImage MaterialXRunner::render(int w, int h, const Vec3d& eye, double fovDeg,
         set_matrices(prog, vp);
         if (pass == 0) {
             glUniform1f(glGetUniformLocation(prog, "u_envLightIntensity"), 0.0f);
+            bind_environment(prog, envTex_);
             glUniform3f(glGetUniformLocation(prog, "u_viewPosition"), float(eye[0]), float(eye[1]),
                         float(eye[2]));
             glUniform1i(glGetUniformLocation(prog, "u_numActiveLightSources"), int(lights.size()));

@@ -59,11 +59,15 @@ class MaterialXRunner {
 
   private:
     void set_material(const Params& p);
+    static void bind_environment(unsigned program, unsigned envTex);
     EglContext context_;
     std::string node_;
     std::string vertex_, fragment_;
     unsigned program_ = 0;
     unsigned vao_ = 0, vbo_ = 0, fbo_ = 0, colorTex_ = 0, posProgram_ = 0;
+    // A black 1 x 1 texture on unit 1 for the environment samplers, so that they never read
+    // the render target (bound on unit 0) while it is drawn to.
+    unsigned envTex_ = 0;
 };
 
 } // namespace retroprism::gl

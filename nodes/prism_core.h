@@ -106,6 +106,9 @@ struct core;
         static bool eval(const material& m, vec3 wi, vec3 wo, lobes& r, real& pdf) {               \
             return NS::rp_eval(m, wi, wo, r, pdf);                                                 \
         }                                                                                          \
+        static bool eval_f(const material& m, vec3 wi, vec3 wo, lobes& r) {                        \
+            return NS::rp_eval_f(m, wi, wo, r);                                                    \
+        }                                                                                          \
         static bool sample(const material& m, vec3 wi, vec3 u, vec3& wo, lobes& r, real& pdf,      \
                            int& lobe) {                                                            \
             return NS::rp_sample(m, wi, u, wo, r, pdf, lobe);                                      \

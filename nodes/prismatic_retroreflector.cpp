@@ -212,16 +212,20 @@ typename PrismaticRetroreflector<Real>::Eval
 PrismaticRetroreflector<Real>::eval(const vec3& wiWorld, const vec3& woWorld) const {
     Eval out;
     vec3 wi, wo;
-    if (!to_local(wiWorld, wi) || !to_local(woWorld, wo)) return out;
     typename core<Real>::lobes r;
-    Real pdf = 0;
-    if (core<Real>::eval(m_, wi, wo, r, pdf)) {
-        out.f.surface = r.surface;
-        out.f.retro = r.retro;
-        out.f.diffuse = r.diffuse;
-        out.pdf = pdf;
-    }
+    if (to_local(wiWorld, wi) && to_local(woWorld, wo) && core<Real>::eval(m_, wi, wo, r, out.pdf))
+        out.f = {r.surface, r.retro, r.diffuse};
     return out;
+}
+
+template <class Real>
+typename PrismaticRetroreflector<Real>::Lobes
+PrismaticRetroreflector<Real>::f(const vec3& wiWorld, const vec3& woWorld) const {
+    vec3 wi, wo;
+    typename core<Real>::lobes r;
+    if (to_local(wiWorld, wi) && to_local(woWorld, wo) && core<Real>::eval_f(m_, wi, wo, r))
+        return {r.surface, r.retro, r.diffuse};
+    return Lobes();
 }
 
 template <class Real>

@@ -17,11 +17,13 @@
 //    it returns an empty optional when wi is below the horizon, nothing reflects, or the
 //    sampled direction falls below the horizon. pdf() is the same mixture pdf.
 //  - albedo(wi) = integral of f cos(theta_o) over the hemisphere, per lobe.
-//  - Directions with cos(theta) < 1e-9 (RP_MIN_COS), and non-finite directions, give zero
-//    values, a zero pdf and an empty sample: never NaN or Inf.
+//  - Directions with cos(theta) < 1e-9 (RP_MIN_COS), and zero, tiny (length below 1e-15),
+//    overflowing (length 1.7e19 or more) and non-finite directions, give zero values, a zero
+//    pdf and an empty sample: never NaN or Inf.
 //  - Parameters outside their range (the table in prismatic_retroreflector_params.def) are
-//    clamped into it; NaN parameters take their default; a zero or non-finite normal takes
-//    (0,0,1) and a tangent parallel to the normal is replaced by an arbitrary orthogonal one.
+//    clamped into it; NaN parameters take their default; a zero, tiny or non-finite normal takes
+//    (0,0,1) and a tangent parallel to the normal (or zero, tiny, non-finite) is replaced by an
+//    arbitrary orthogonal one.
 #pragma once
 
 #include <array>
@@ -122,6 +124,9 @@ class PrismaticRetroreflector {
     explicit PrismaticRetroreflector(const Params& params = Params());
 
     Eval eval(const vec3& wi, const vec3& wo) const;
+    // f alone: eval() without the pdf, cheaper (no mixture weights), for light loops that do not
+    // weight by the sampling pdf; the same values as eval().f.
+    Lobes f(const vec3& wi, const vec3& wo) const;
     Real pdf(const vec3& wi, const vec3& wo) const;
     // u in [0, 1)^3: u.z chooses the lobe, u.x and u.y sample it.
     std::optional<Sample> sample(const vec3& wi, const vec3& u) const;
@@ -133,8 +138,8 @@ class PrismaticRetroreflector {
 
     const material& core_material() const { return m_; }
     const Params& params() const { return params_; }
-    // World (parameter frame) to local shading frame; returns false for a zero or
-    // non-finite direction.
+    // World (parameter frame) to local shading frame; returns false for a zero, tiny,
+    // overflowing or non-finite direction.
     bool to_local(const vec3& w, vec3& local) const;
     vec3 to_world(const vec3& local) const;
 

@@ -1,9 +1,9 @@
 // [stress]: reliability (issue 8).
 //  - A bounded version of the adversarial sweep of `retroprism check --stress` (cli/stress.cpp,
 //    compiled into this test): the same generator over every enum/boolean combination and every
-//    single-input hard value, on every seventh direction pair (every 29th for materialx), through
-//    every backend. Required: no NaN, Inf or negative value, no guard violation, no sample/pdf
-//    inconsistency.
+//    single-input hard value, on every seventh direction pair (every 13th for materialx), then
+//    random hard materials, through every backend (1e6, 1e6, 5e5 and 4e4 evaluations). Required:
+//    no NaN, Inf or negative value, no guard violation, no sample/pdf inconsistency.
 //  - The checked-in fuzz corpus (fuzz/corpus/<target>/) replayed through the fuzz targets'
 //    checks (fuzz/fuzz_checks.h), and the inputs the fuzzing and the sweep found, as
 //    regression tests.
@@ -60,11 +60,16 @@ std::vector<std::uint8_t> read_bytes(const fs::path& p) {
 stress::Tally bounded_sweep(const std::string& backend) {
     stress::Options opt;
     // Every combination and single-input hard value (434 materials) on every seventh pair,
-    // then random hard materials; materialx (about 1e4 evaluations per second on llvmpipe)
-    // on every 29th pair of the same materials.
-    opt.pair_stride = backend == "materialx" ? 29 : 7;
-    opt.cpp_evaluations = 200000;
-    opt.gl_evaluations = backend == "materialx" ? 33000 : 200000;
+    // then random hard materials: 1e6 evaluations for the C++ backends, 5e5 for glsl;
+    // materialx (about 3e4 evaluations per second on llvmpipe) on every 13th pair of the same
+    // 434 materials alone.
+    opt.pair_stride = backend == "materialx" ? 13 : 7;
+    const long materials = stress::combination_count() + long(stress::single_mutations().size());
+    const long perMaterial =
+        long(stress::stress_pairs(Params(), true, 0).size()) / opt.pair_stride + 1;
+    opt.cpp_evaluations = std::max(1000000L, materials * perMaterial);
+    opt.gl_evaluations = backend == "materialx" ? materials * perMaterial
+                                                : std::max(500000L, materials * perMaterial);
     const stress::Tally t = stress::run_backend(backend, opt);
     stress::print_header(stdout);
     stress::print_row(stdout, t);

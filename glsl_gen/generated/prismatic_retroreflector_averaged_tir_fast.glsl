@@ -4129,6 +4129,9 @@ rp_material rp_prepare(float weight, vec3 diffuseColor, vec3 retroColor, float s
 
 // Squared lengths at or above this count as overflowed (a float's range).
 const float RP_HUGE = float(3.0e38);
+// Squared lengths below this count as zero (a length below 1e-15): the square of a shorter
+// vector is a denormal (few significant bits) or zero in float, and the same in every backend.
+const float RP_TINY = float(1e-30);
 // Directions whose squared length is within this of 1 are used as given: renormalising a
 // float direction moves it by an ulp, which the narrowest lobes (alpha = 1e-4) turn into a
 // 1e-3 change of their tails, so float and double backends see the same direction.
@@ -4140,19 +4143,35 @@ float rp_sanitize(float v, float lo, float hi, float def) {
     return clamp(v, lo, hi);
 }
 
-// The shading frame from the node's normal and tangent: a zero, non-finite or overflowing
-// normal means +z; the tangent is made orthogonal to it (Gram-Schmidt), and one parallel to it
-// (or zero, or non-finite) is replaced by the orthogonal unit vector of Duff et al. 2017,
-// "Building an Orthonormal Basis, Revisited".
+// v / |v|; false (and u = 0) for a zero, tiny (squared length below RP_TINY), non-finite or
+// overflowing (squared length at or above RP_HUGE) vector.
+bool rp_unit(vec3 v, out vec3 u) {
+    float len2 = dot(v, v);
+    u = vec3(float(0.0));
+    if (!(len2 >= RP_TINY && len2 < RP_HUGE)) return false;
+    u = v / sqrt(len2);
+    return true;
+}
+
+// The shading frame from the node's normal and tangent: a zero, tiny, non-finite or overflowing
+// normal means +z; the tangent is made orthogonal to it (Gram-Schmidt: one pass leaves an error
+// of eps / sin(angle) in the orthogonality, so a tangent within 30 degrees of the normal gets a
+// second, which brings it to an ulp), and one parallel to it (sine of the angle below 1e-6),
+// zero, tiny (squared length below RP_TINY), overflowing or non-finite is replaced by the
+// orthogonal unit vector of Duff et al. 2017, "Building an Orthonormal Basis, Revisited".
 void rp_make_frame(vec3 normal, vec3 tangent, out vec3 fN, out vec3 fT,
                          out vec3 fB) {
-    float ln2 = dot(normal, normal);
-    fN = (ln2 > float(0.0) && ln2 < RP_HUGE) ? normal / sqrt(ln2)
-                                            : vec3(float(0.0), float(0.0), float(1.0));
+    if (!rp_unit(normal, fN)) fN = vec3(float(0.0), float(0.0), float(1.0));
+    float t2 = dot(tangent, tangent);
     vec3 tp = tangent - dot(tangent, fN) * fN;
     float lt2 = dot(tp, tp);
-    if (lt2 > float(1e-12) && lt2 < RP_HUGE) {
+    if (t2 >= RP_TINY && t2 < RP_HUGE && lt2 > float(1e-12) * t2) {
         fT = tp / sqrt(lt2);
+        if (lt2 < float(0.25) * t2) {
+            // sin(angle) < 1/2: the first pass left fT.fN ~ eps / sin(angle) > 2 eps.
+            tp = fT - dot(fT, fN) * fN;
+            fT = tp / sqrt(dot(tp, tp));
+        }
     } else {
         float sgn = fN.z >= float(0.0) ? float(1.0) : float(-1.0);
         float a = float(-1.0) / (sgn + fN.z);
@@ -4163,12 +4182,13 @@ void rp_make_frame(vec3 normal, vec3 tangent, out vec3 fN, out vec3 fT,
 }
 
 // A direction given in the frame's parent space, in the local frame (x along the tangent,
-// z along the normal); false for a zero, non-finite or overflowing direction.
+// z along the normal); false for a zero, tiny, non-finite or overflowing direction (rp_unit).
+// A direction within RP_UNIT_TOL of unit length is used as given, any other is normalised.
 bool rp_to_local(vec3 fN, vec3 fT, vec3 fB, vec3 w, out vec3 local) {
     float len2 = dot(w, w);
     local = vec3(float(0.0));
-    if (!(len2 > float(0.0) && len2 < RP_HUGE)) return false;
-    vec3 u = abs(len2 - float(1.0)) <= RP_UNIT_TOL ? w : w / sqrt(len2);
+    vec3 u = w;
+    if (!(abs(len2 - float(1.0)) <= RP_UNIT_TOL) && !rp_unit(w, u)) return false;
     local = vec3(dot(u, fT), dot(u, fB), dot(u, fN));
     return true;
 }
@@ -4208,7 +4228,9 @@ void rp_lobe_estimates(in rp_material m, in rp_incident s, out vec3 surface,
     diffuse = m.diffuse_albedo * (s.transI * (float(1.0) - s.era));
 }
 
-void rp_incident_setup(in rp_material m, vec3 wi, out rp_incident s) {
+// The incident state the lobes need (everything but the mixture weights; s.fresI and
+// s.lobeProb are left 0).
+void rp_incident_lobes(in rp_material m, vec3 wi, out rp_incident s) {
     float cosThetaI = wi.z;
     s.cosThetaI = cosThetaI;
     s.tan2ThetaI = rp_tan2(wi);
@@ -4220,8 +4242,9 @@ void rp_incident_setup(in rp_material m, vec3 wi, out rp_incident s) {
     s.dt = vec3(-wi.x / m.eta, -wi.y / m.eta, -cosThetaT);
     s.era = float(0.0);
     s.era = rp_retro_fraction(m, s.dt);
-    s.fresI = rp_fresnel_dielectric(cosThetaI, m.eta);
+    s.fresI = float(0.0);
     s.transI = rp_fresnel_transmittance(cosThetaI, m.eta);
+    s.lobeProb = vec3(float(0.0));
     s.g1I = rp_beckmann_G1(RP_FIDELITY_FAST, s.tan2ThetaI, m.alpha);
     s.g1T = float(1.0);
     s.ePar = vec3(float(0.0));
@@ -4254,8 +4277,13 @@ void rp_incident_setup(in rp_material m, vec3 wi, out rp_incident s) {
         s.alphaPar = alphaO;
         s.alphaPerp = alphaO;
     }
+}
 
-    // Mixture weights: cheap estimates of each lobe's albedo at wi (MODEL.md section 4).
+// The whole incident state: the lobes' (rp_incident_lobes) and the one-sample mixture's lobe
+// probabilities, from cheap estimates of each lobe's albedo at wi (MODEL.md section 4).
+void rp_incident_setup(in rp_material m, vec3 wi, out rp_incident s) {
+    rp_incident_lobes(m, wi, s);
+    s.fresI = rp_fresnel_dielectric(s.cosThetaI, m.eta);
     vec3 estS;
     vec3 estR;
     vec3 estD;
@@ -4264,10 +4292,8 @@ void rp_incident_setup(in rp_material m, vec3 wi, out rp_incident s) {
     float pR = rp_mean3(estR);
     float pD = rp_mean3(estD);
     float total = pS + pR + pD;
-    if (total > float(0.0) && cosThetaI >= RP_MIN_COS && m.weight > float(0.0)) {
+    if (total > float(0.0) && s.cosThetaI >= RP_MIN_COS && m.weight > float(0.0)) {
         s.lobeProb = vec3(pS, pR, pD) / total;
-    } else {
-        s.lobeProb = vec3(float(0.0));
     }
 }
 
@@ -4313,11 +4339,12 @@ float rp_retro_density(in rp_incident s, vec3 wo, vec3 wi) {
     return exp(-x) * sec2 * sqrt(sec2) * RP_INV_PI / (s.alphaPar * s.alphaPerp);
 }
 
-// All three lobes at (wi, wo) given the incident state (wo.z >= RP_MIN_COS), and the mixture
-// pdf of rp_sample at wo, sum over the lobes of P_k pdf_k (MODEL.md section 4), from the same
-// D(h) and p_o the lobes use.
+// All three lobes at (wi, wo) given the incident state (wo.z >= RP_MIN_COS), and, when
+// wantPdf, the mixture pdf of rp_sample at wo, sum over the lobes of P_k pdf_k (MODEL.md
+// section 4), from the same D(h) and p_o the lobes use (0 otherwise: callers pass a constant,
+// and the pdf's work is compiled away where it is false).
 void rp_eval_lobes_pdf(in rp_material m, in rp_incident s, vec3 wi, vec3 wo,
-                             out rp_lobes r, out float pdf) {
+                             bool wantPdf, out rp_lobes r, out float pdf) {
     r.surface = vec3(float(0.0));
     r.retro = vec3(float(0.0));
     r.diffuse = vec3(float(0.0));
@@ -4338,7 +4365,7 @@ void rp_eval_lobes_pdf(in rp_material m, in rp_incident s, vec3 wi, vec3 wo,
             float g2 = float(1.0) / (float(1.0) + lambdaI + lambdaO);
             float fs = fr * d * g2 / (float(4.0) * s.cosThetaI * cosThetaO);
             r.surface = vec3(m.specular * fs);
-            pdf += s.lobeProb.x * rp_surface_pdf_from_D(s, d);
+            if (wantPdf) pdf += s.lobeProb.x * rp_surface_pdf_from_D(s, d);
         }
     }
     if (rp_mean3(m.retro_color) > float(0.0)) {
@@ -4349,14 +4376,14 @@ void rp_eval_lobes_pdf(in rp_material m, in rp_incident s, vec3 wi, vec3 wo,
                 float gHat = s.g1I * s.g1T * s.g1T * g1O;
                 float po = rp_retro_density(s, wo, wi);
                 r.retro = m.retro_color * (s.era * s.transI * transO * gHat * po / cosThetaO);
-                pdf += s.lobeProb.y * po;
+                if (wantPdf) pdf += s.lobeProb.y * po;
             }
         } else {
             // Reciprocal form: E, G1(mu_t), alpha_o and the lobe frame at the mean direction
             // of wi and wo, and 1 / sqrt(cos_i cos_o); the same as the paper's at the peak.
             vec3 wMean = normalize(wi + wo);
             rp_incident sm;
-            rp_incident_setup(m, wMean, sm);
+            rp_incident_lobes(m, wMean, sm);
             if (sm.era > float(0.0)) {
                 float gHat = s.g1I * sm.g1T * sm.g1T * g1O;
                 float po = rp_retro_density(sm, wo, wi);
@@ -4364,7 +4391,8 @@ void rp_eval_lobes_pdf(in rp_material m, in rp_incident s, vec3 wi, vec3 wo,
                           (sm.era * s.transI * transO * gHat * po / sqrt(s.cosThetaI * cosThetaO));
             }
             // The sampling density is the paper's lobe about wi.
-            if (s.lobeProb.y > float(0.0)) pdf += s.lobeProb.y * rp_retro_density(s, wo, wi);
+            if (wantPdf && s.lobeProb.y > float(0.0))
+                pdf += s.lobeProb.y * rp_retro_density(s, wo, wi);
         }
     }
     // The light that reaches the substrate: (1 - E(mu_t(wi))) in the paper's form; in the
@@ -4372,21 +4400,22 @@ void rp_eval_lobes_pdf(in rp_material m, in rp_incident s, vec3 wi, vec3 wo,
     float passed = float(1.0) - s.era;
     if (m.reciprocal != 0) {
         rp_incident so;
-        rp_incident_setup(m, wo, so);
+        rp_incident_lobes(m, wo, so);
         passed = sqrt(max(float(0.0), (float(1.0) - s.era) * (float(1.0) - so.era)));
     }
     r.diffuse = m.diffuse_scale * (s.transI * transO * passed);
-    pdf += s.lobeProb.z * cosThetaO * RP_INV_PI;
+    if (wantPdf) pdf += s.lobeProb.z * cosThetaO * RP_INV_PI;
     r.surface *= m.weight;
     r.retro *= m.weight;
     r.diffuse *= m.weight;
 }
 
-// All three lobes at (wi, wo) given the incident state; wo.z >= RP_MIN_COS.
+// All three lobes at (wi, wo) given the incident state (of rp_incident_lobes or
+// rp_incident_setup); wo.z >= RP_MIN_COS.
 void rp_eval_lobes(in rp_material m, in rp_incident s, vec3 wi, vec3 wo,
                          out rp_lobes r) {
     float pdf;
-    rp_eval_lobes_pdf(m, s, wi, wo, r, pdf);
+    rp_eval_lobes_pdf(m, s, wi, wo, false, r, pdf);
 }
 
 // pdf of lobe k's own sampling at wo (solid angle measure, no mixture weight).
@@ -4434,7 +4463,21 @@ bool rp_eval(in rp_material m, vec3 wi, vec3 wo, out rp_lobes r, out float pdf) 
     if (!(wi.z >= RP_MIN_COS && wo.z >= RP_MIN_COS) || !(m.weight > float(0.0))) return false;
     rp_incident s;
     rp_incident_setup(m, wi, s);
-    rp_eval_lobes_pdf(m, s, wi, wo, r, pdf);
+    rp_eval_lobes_pdf(m, s, wi, wo, true, r, pdf);
+    return true;
+}
+
+// f alone at (wi, wo), as rp_eval without the pdf (no mixture weights): what a light loop that
+// does not weight by the sampling pdf needs.
+bool rp_eval_f(in rp_material m, vec3 wi, vec3 wo, out rp_lobes r) {
+    r.surface = vec3(float(0.0));
+    r.retro = vec3(float(0.0));
+    r.diffuse = vec3(float(0.0));
+    if (!(wi.z >= RP_MIN_COS && wo.z >= RP_MIN_COS) || !(m.weight > float(0.0))) return false;
+    rp_incident s;
+    rp_incident_lobes(m, wi, s);
+    float pdf;
+    rp_eval_lobes_pdf(m, s, wi, wo, false, r, pdf);
     return true;
 }
 
@@ -4469,7 +4512,7 @@ bool rp_sample(in rp_material m, vec3 wi, vec3 u, out vec3 wo, out rp_lobes r,
         lobe = -1;
         return false;
     }
-    rp_eval_lobes_pdf(m, s, wi, wo, r, pdf);
+    rp_eval_lobes_pdf(m, s, wi, wo, true, r, pdf);
     if (!(pdf > float(0.0))) {
         lobe = -1;
         return false;
