@@ -166,6 +166,11 @@ f32::rp_material round_material<float>(const f64::rp_material& m) {
     r.diffuse_color = f32::vec3(m.diffuse_color);
     r.alpha = float(m.alpha);
     r.eta = float(m.eta);
+    r.inv_alpha = float(m.inv_alpha);
+    r.inv_alpha2 = float(m.inv_alpha2);
+    r.inv_eta = float(m.inv_eta);
+    r.eta2m1 = float(m.eta2m1);
+    r.inv_spread = float(m.inv_spread);
     r.prism_reflection = m.prism_reflection;
     r.metal_r3 = float(m.metal_r3);
     r.era_mode = m.era_mode;

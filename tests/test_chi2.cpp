@@ -496,7 +496,9 @@ Chi2Result run_case(const Chi2Case& cs) {
         f64::rp_incident sp = s; // the pdf's incident state (a negative control widens its lobe)
         f64::rp_material mp = m;
         if (cs.pdfAlphaScale != 1.0) {
-            mp.alpha *= cs.pdfAlphaScale;
+            Params pp = sane;
+            pp.roughness *= cs.pdfAlphaScale;
+            mp = retroprism::prepare_material(retroprism::sanitize(pp));
             f64::rp_incident_setup(mp, wi, sp);
         }
         prob = integrate_grid(

@@ -635,6 +635,9 @@ const float RP_MIN_ALPHA = float(1e-4);
 // Cosines below this count as "below the horizon": every 1/cos stays below 1e9, so products
 // of two such factors with the peak values above stay far from float overflow.
 const float RP_MIN_COS = float(1e-9);
+// Stands for "infinite" in a = 1 / (alpha tan) at normal incidence and in 1 / (eta^2 - 1) at
+// eta = 1, finite in float (GLSL need not produce an infinity).
+const float RP_BIG = float(1e30);
 // Exponents beyond this are returned as exactly 0 (exp(-80) = 1.8e-35): keeps 0 * inf out
 // of the Beckmann terms when a tangent overflows.
 const float RP_MAX_EXP = float(80.0);
@@ -679,6 +682,11 @@ struct rp_material {
     vec3 diffuse_color; // k_d
     float alpha;         // Beckmann roughness, floored at RP_MIN_ALPHA
     float eta;           // in [1, 3]
+    float inv_alpha;     // 1 / alpha
+    float inv_alpha2;    // 1 / alpha^2
+    float inv_eta;       // 1 / eta
+    float eta2m1;        // eta^2 - 1, as (eta - 1)(eta + 1)
+    float inv_spread;    // 1 / (sqrt2 alpha (eta^2 - 1)), RP_BIG at eta = 1 (retro lobe widths)
     int prism_reflection;
     float metal_r3; // R_metal^3
     int era_mode;
@@ -710,17 +718,22 @@ struct rp_lobes {
 // Total internal reflection (possible only for eta < 1) returns 1.
 float rp_fresnel_dielectric(float cosThetaI, float eta) {
     float c = clamp(cosThetaI, float(0.0), float(1.0));
-    // cos_t^2 = (eta^2 - 1 + c^2) / eta^2, free of the cancellation of 1 - sin_t^2 at grazing
-    // incidence on an eta ~ 1 sheet.
+    // g = eta cos_t = sqrt(eta^2 - 1 + c^2), free of the cancellation of 1 - sin_t^2 at grazing
+    // incidence on an eta ~ 1 sheet; with it r_s = -(eta^2 - 1) / (c + g)^2 and
+    // r_p = (eta^2 - 1)(c^2 (eta^2 + 1) - 1) / (eta^2 c + g)^2, summed over one division.
     float eta2m1 = (eta - float(1.0)) * (eta + float(1.0));
-    float cos2ThetaT = (eta2m1 + c * c) / (eta * eta);
-    if (cos2ThetaT <= float(0.0)) return float(1.0);
-    float cosThetaT = sqrt(cos2ThetaT);
-    float ds = c + eta * cosThetaT;
-    float dp = eta * c + cosThetaT;
-    float rs = -eta2m1 / (ds * ds);
-    float rp = eta2m1 * (c * c * (eta * eta + float(1.0)) - float(1.0)) / (eta * eta * dp * dp);
-    return clamp(float(0.5) * (rs * rs + rp * rp), float(0.0), float(1.0));
+    float g2 = eta2m1 + c * c;
+    if (g2 <= float(0.0)) return float(1.0);
+    float g = sqrt(g2);
+    float a = (c + g) * (c + g);
+    float b = (eta * eta * c + g) * (eta * eta * c + g);
+    float q = c * c * (eta * eta + float(1.0)) - float(1.0);
+    // a, b <= 144, and a, b >= g^2 >= eta^2 - 1 >= 2.4e-7 for eta > 1 in float: a^2 b^2 underflows
+    // only at eta = 1, where F = 0 (but at c = 0, returned above).
+    float den = a * a * b * b;
+    if (!(den > float(0.0))) return float(0.0);
+    float f = float(0.5) * eta2m1 * eta2m1 * (b * b + q * q * a * a) / den;
+    return clamp(f, float(0.0), float(1.0));
 }
 
 // The same for light inside the medium of index eta >= 1 meeting its boundary with air at
@@ -742,15 +755,19 @@ float rp_fresnel_internal(float cosThetaI, float eta) {
 }
 
 // Its complement T = 1 - F without the cancellation of 1 - F at grazing angles, from
-// 1 - r^2 = (1 - r)(1 + r): T = 2 eta c cos_t (1/(c + eta cos_t)^2 + 1/(eta c + cos_t)^2).
+// 1 - r^2 = (1 - r)(1 + r): with g = eta cos_t,
+// T = 2 c g (1/(c + g)^2 + eta^2/(eta^2 c + g)^2), over one division.
 float rp_fresnel_transmittance(float cosThetaI, float eta) {
     float c = clamp(cosThetaI, float(0.0), float(1.0));
-    float cos2ThetaT = ((eta - float(1.0)) * (eta + float(1.0)) + c * c) / (eta * eta);
-    if (cos2ThetaT <= float(0.0)) return float(0.0);
-    float cosThetaT = sqrt(cos2ThetaT);
-    float ds = c + eta * cosThetaT;
-    float dp = eta * c + cosThetaT;
-    float t = float(2.0) * eta * c * cosThetaT * (float(1.0) / (ds * ds) + float(1.0) / (dp * dp));
+    float g2 = (eta - float(1.0)) * (eta + float(1.0)) + c * c;
+    if (g2 <= float(0.0)) return float(0.0);
+    float g = sqrt(g2);
+    float a = (c + g) * (c + g);
+    float b = (eta * eta * c + g) * (eta * eta * c + g);
+    // a b >= 16 c^4 (at eta = 1) underflows only for c below 1e-10, where T < 1e-9: 0 there.
+    float den = a * b;
+    if (!(den > float(0.0))) return float(0.0);
+    float t = float(2.0) * c * g * (b + eta * eta * a) / den;
     return clamp(t, float(0.0), float(1.0));
 }
 
@@ -761,45 +778,64 @@ float rp_tan2(vec3 w) {
 }
 
 // Beckmann NDF D(m) = exp(-tan^2/alpha^2) / (pi alpha^2 cos^4), written with
-// 1/cos^4 = (1 + tan^2)^2 so that no cosine is divided by. 0 beyond RP_MAX_EXP.
-float rp_beckmann_D(float tan2ThetaM, float alpha) {
-    float x = tan2ThetaM / (alpha * alpha);
+// 1/cos^4 = (1 + tan^2)^2 so that no cosine is divided by, from invAlpha2 = 1 / alpha^2.
+// 0 beyond RP_MAX_EXP.
+float rp_beckmann_D_inv(float tan2ThetaM, float invAlpha2) {
+    float x = tan2ThetaM * invAlpha2;
     if (!(x <= RP_MAX_EXP)) return float(0.0);
     float s = float(1.0) + tan2ThetaM;
-    return exp(-x) * s * s * RP_INV_PI / (alpha * alpha);
+    return exp(-x) * s * s * RP_INV_PI * invAlpha2;
 }
 
-// Smith Lambda of Beckmann (Walter et al. 2007, Eq. 27 with the exact erf):
-// Lambda = (erf(a) - 1)/2 + exp(-a^2)/(2 a sqrt(pi)), a = 1/(alpha tan).
-// Written with erfc to avoid the cancellation of erf(a) - 1; tan = 0 -> 0.
-float rp_beckmann_lambda(float tan2Theta, float alpha) {
-    if (!(tan2Theta > float(0.0))) return float(0.0);
-    float a = float(1.0) / (alpha * sqrt(tan2Theta));
-    if (a > float(9.0)) return float(0.0); // Lambda < 1e-37 there
+float rp_beckmann_D(float tan2ThetaM, float alpha) {
+    return rp_beckmann_D_inv(tan2ThetaM, float(1.0) / (alpha * alpha));
+}
+
+// Smith Lambda of Beckmann (Walter et al. 2007, Eq. 27 with the exact erf) of a = 1/(alpha tan):
+// Lambda = (erf(a) - 1)/2 + exp(-a^2)/(2 a sqrt(pi)), written with erfc to avoid the
+// cancellation of erf(a) - 1; 0 for a > 9 (Lambda < 1e-37 there).
+float rp_beckmann_lambda_of_a(float a) {
+    if (!(a <= float(9.0))) return float(0.0);
     float lambda = float(0.5) * (exp(-a * a) * RP_INV_SQRT_PI / a - rp_erfc(a));
     return max(lambda, float(0.0));
 }
 
+// The same from tan^2(theta); tan = 0 -> 0.
+float rp_beckmann_lambda(float tan2Theta, float alpha) {
+    if (!(tan2Theta > float(0.0))) return float(0.0);
+    return rp_beckmann_lambda_of_a(float(1.0) / (alpha * sqrt(tan2Theta)));
+}
+
 // The fast tier's Smith Lambda of Beckmann: Walter et al. 2007's rational fit (Eq. 27, after
 // Beckmann), (1 - 1.259 a + 0.396 a^2) / (3.535 a + 2.181 a^2) for a < 1.6, else 0; no erf
-// or exp. Its error is measured by tests/test_physics.cpp.
+// or exp. Kept as the ratio (numerator, denominator), so that G1 and G2 take one division
+// each. Its error is measured by tests/test_physics.cpp.
+vec2 rp_beckmann_lambda_fast_ratio(float a) {
+    if (!(a < float(1.6))) return vec2(float(0.0), float(1.0));
+    return vec2(float(1.0) - float(1.259) * a + float(0.396) * a * a,
+                float(3.535) * a + float(2.181) * a * a);
+}
+
+// The same from tan^2(theta), as a value.
 float rp_beckmann_lambda_fast(float tan2Theta, float alpha) {
     if (!(tan2Theta > float(0.0))) return float(0.0);
-    float a = float(1.0) / (alpha * sqrt(tan2Theta));
-    if (a >= float(1.6)) return float(0.0);
-    return (float(1.0) - float(1.259) * a + float(0.396) * a * a) /
-           (float(3.535) * a + float(2.181) * a * a);
+    vec2 r = rp_beckmann_lambda_fast_ratio(float(1.0) / (alpha * sqrt(tan2Theta)));
+    return r.x / r.y;
 }
 
-// Lambda in the material's fidelity tier.
-float rp_lambda(int fidelity, float tan2Theta, float alpha) {
-    if (fidelity == RP_FIDELITY_FAST) return rp_beckmann_lambda_fast(tan2Theta, alpha);
-    if (fidelity == RP_FIDELITY_EXACT) return rp_beckmann_lambda(tan2Theta, alpha);
-    return float(0.0);
+// Lambda in the material's fidelity tier of a direction with a = 1 / (alpha tan(theta)), as a
+// ratio (numerator, denominator >= 0): G1 = den / (den + num). a = RP_BIG (normal incidence)
+// gives 0, a = 0 (grazing) an infinite Lambda, (1, 0).
+vec2 rp_lambda_ratio(in rp_material m, float a) {
+    if (!(a > float(0.0))) return vec2(float(1.0), float(0.0));
+    if (m.fidelity == RP_FIDELITY_FAST) return rp_beckmann_lambda_fast_ratio(a);
+    if (m.fidelity == RP_FIDELITY_EXACT) return vec2(rp_beckmann_lambda_of_a(a), float(1.0));
+    return vec2(float(0.0), float(1.0));
 }
 
-float rp_beckmann_G1(int fidelity, float tan2Theta, float alpha) {
-    return float(1.0) / (float(1.0) + rp_lambda(fidelity, tan2Theta, alpha));
+// G1 = 1 / (1 + Lambda) of a Lambda ratio.
+float rp_g1_of(vec2 lambda) {
+    return lambda.y / (lambda.y + lambda.x);
 }
 
 // Visible slope of the standard configuration (view at polar angle theta in the xz-plane,
@@ -919,14 +955,20 @@ float rp_retro_fraction_oriented(in rp_material m, vec3 d) {
 
 
 
-// The retroreflected fraction E for the mean refracted direction d in the node's ERA mode.
-float rp_retro_fraction(in rp_material m, vec3 d) {
+// The retroreflected fraction E for the mean refracted direction d in the node's ERA mode, given
+// its sin(theta_t) = |d.xy|.
+float rp_retro_fraction_s(in rp_material m, vec3 d, float sinThetaT) {
     if (RP_ERA_MATCHED_PAIR == RP_ERA_MATCHED_PAIR) {
         vec3 dPair = vec3(-d.x, -d.y, d.z);
         return float(0.5) *
                (rp_retro_fraction_oriented(m, d) + rp_retro_fraction_oriented(m, dPair));
     }
     return float(0.0);
+}
+
+// The same from the direction alone.
+float rp_retro_fraction(in rp_material m, vec3 d) {
+    return rp_retro_fraction_s(m, d, sqrt(d.x * d.x + d.y * d.y));
 }
 
 // ---- Material preparation ----------------------------------------------------------------
@@ -957,6 +999,11 @@ rp_material rp_prepare(float weight, vec3 diffuseColor, vec3 retroColor, float s
     m.diffuse_color = diffuseColor;
     m.alpha = max(roughness, RP_MIN_ALPHA);
     m.eta = ior;
+    m.inv_alpha = float(1.0) / m.alpha;
+    m.inv_alpha2 = m.inv_alpha * m.inv_alpha;
+    m.inv_eta = float(1.0) / ior;
+    m.eta2m1 = (ior - float(1.0)) * (ior + float(1.0));
+    m.inv_spread = m.eta2m1 > float(0.0) ? float(1.0) / (RP_SQRT2 * m.alpha * m.eta2m1) : RP_BIG;
     m.prism_reflection = prismReflection;
     m.metal_r3 = metalReflectance * metalReflectance * metalReflectance;
     m.era_mode = eraMode;
@@ -1055,18 +1102,22 @@ bool rp_to_local(vec3 fN, vec3 fT, vec3 fB, vec3 w, out vec3 local) {
 // the retro lobe's frame and widths, and the one-sample mixture's lobe probabilities.
 struct rp_incident {
     float cosThetaI;
-    float tan2ThetaI;
-    vec3 dt;     // mu_t, the mean refracted direction inside the sheet (dt.z < 0)
-    float era;    // E(mu_t), with face reflectances
-    float transI; // T(cos theta_i) = 1 - F
-    float fresI;  // F(cos theta_i)
-    float g1I;    // G1(wi)
-    float g1T;    // G1(mu_t), from |cos theta_t|
-    vec3 ePar;   // retro lobe frame: in the plane of incidence, perpendicular to wi
-    vec3 ePerp;  // perpendicular to the plane of incidence
+    float invCosI; // 1 / max(cos theta_i, RP_MIN_COS)
+    vec3 dt;      // mu_t, the mean refracted direction inside the sheet (dt.z < 0)
+    float era;     // E(mu_t), with face reflectances
+    float transI;  // T(cos theta_i) = 1 - F
+    float fresI;   // F(cos theta_i)
+    vec2 lambdaI; // Lambda(wi) as (numerator, denominator) (rp_lambda_ratio)
+    float g1I;     // G1(wi)
+    float g1T;     // G1(mu_t), from |cos theta_t|
+    vec3 ePar;    // retro lobe frame: in the plane of incidence, perpendicular to wi
+    vec3 ePerp;   // perpendicular to the plane of incidence
     float alphaPar;
     float alphaPerp;
-    vec3 lobeProb; // P(surface), P(retro), P(diffuse); zero vector when nothing reflects
+    float invAlphaPar2;  // 1 / alphaPar^2
+    float invAlphaPerp2; // 1 / alphaPerp^2
+    float retroNorm;     // 1 / (pi alphaPar alphaPerp), the retro density's normalisation
+    vec3 lobeProb;      // P(surface), P(retro), P(diffuse); zero vector when nothing reflects
 };
 
 float rp_mean3(vec3 c) {
@@ -1089,50 +1140,73 @@ void rp_lobe_estimates(in rp_material m, in rp_incident s, out vec3 surface,
 void rp_incident_lobes(in rp_material m, vec3 wi, out rp_incident s) {
     float cosThetaI = wi.z;
     s.cosThetaI = cosThetaI;
-    s.tan2ThetaI = rp_tan2(wi);
-    float sin2ThetaI = max(float(0.0), wi.x * wi.x + wi.y * wi.y);
-    float sin2ThetaT = min(sin2ThetaI / (m.eta * m.eta), float(1.0));
+    float sinThetaI = sqrt(max(float(0.0), wi.x * wi.x + wi.y * wi.y));
+    float cosI = max(cosThetaI, RP_MIN_COS);
+    // 1 / sin and 1 / cos over one division; a = 1 / (alpha tan) of wi, RP_BIG along the normal.
+    float invSinI = float(0.0);
+    float aI = RP_BIG;
+    if (sinThetaI > float(0.0)) {
+        float r = float(1.0) / (sinThetaI * cosI);
+        invSinI = cosI * r;
+        s.invCosI = sinThetaI * r;
+        aI = cosThetaI * m.inv_alpha * invSinI;
+    } else {
+        s.invCosI = float(1.0) / cosI;
+    }
     // cos_t^2 = (eta^2 - 1 + cos_i^2) / eta^2 (no cancellation at grazing for eta ~ 1).
     float cos2I = max(cosThetaI, float(0.0)) * max(cosThetaI, float(0.0));
-    float cosThetaT = sqrt(((m.eta - float(1.0)) * (m.eta + float(1.0)) + cos2I) / (m.eta * m.eta));
-    s.dt = vec3(-wi.x / m.eta, -wi.y / m.eta, -cosThetaT);
+    float cosThetaT = sqrt(m.eta2m1 + cos2I) * m.inv_eta;
+    s.dt = vec3(-wi.x * m.inv_eta, -wi.y * m.inv_eta, -cosThetaT);
     s.era = float(0.0);
-    s.era = rp_retro_fraction(m, s.dt);
+    s.era = rp_retro_fraction_s(m, s.dt, sinThetaI * m.inv_eta);
     s.fresI = float(0.0);
     s.transI = rp_fresnel_transmittance(cosThetaI, m.eta);
     s.lobeProb = vec3(float(0.0));
-    s.g1I = rp_beckmann_G1(m.fidelity, s.tan2ThetaI, m.alpha);
+    s.lambdaI = rp_lambda_ratio(m, aI);
+    s.g1I = rp_g1_of(s.lambdaI);
     s.g1T = float(1.0);
     s.ePar = vec3(float(0.0));
     s.ePerp = vec3(float(0.0));
     s.alphaPar = float(1.0);
     s.alphaPerp = float(1.0);
-    s.g1T =
-        rp_beckmann_G1(m.fidelity, sin2ThetaT / max(cosThetaT * cosThetaT, RP_MIN_COS), m.alpha);
+    s.invAlphaPar2 = float(1.0);
+    s.invAlphaPerp2 = float(1.0);
+    s.retroNorm = RP_INV_PI;
+    // G1(wi) and G1(mu_t) over one division; a of mu_t is 1 / (alpha tan theta_t), with
+    // 1 / sin theta_t = eta / sin theta_i.
+    vec2 lambdaT = rp_lambda_ratio(
+        m, sinThetaI > float(0.0) ? cosThetaT * m.inv_alpha * m.eta * invSinI : RP_BIG);
+    float sumI = s.lambdaI.y + s.lambdaI.x;
+    float sumT = lambdaT.y + lambdaT.x;
+    float rg = float(1.0) / (sumI * sumT);
+    s.g1I = s.lambdaI.y * sumT * rg;
+    s.g1T = lambdaT.y * sumI * rg;
 
     // Lobe frame about wi: ePerp = normalize(n x wi); at normal incidence any frame will do,
     // the tangent's is used.
-    float rxy = sqrt(wi.x * wi.x + wi.y * wi.y);
-    s.ePerp = rxy > float(0.0) ? vec3(-wi.y / rxy, wi.x / rxy, float(0.0))
-                              : vec3(float(0.0), float(1.0), float(0.0));
+    s.ePerp = sinThetaI > float(0.0) ? vec3(-wi.y * invSinI, wi.x * invSinI, float(0.0))
+                                    : vec3(float(0.0), float(1.0), float(0.0));
     s.ePar = cross(s.ePerp, wi);
 
     // Joint spherical warping of the two rough crossings (MODEL.md section 3):
     // alpha_o^2 = 2 alpha^2 (eta cos_t - cos_i)^2 / cos_i; anisotropic split
     // alpha_par = sqrt2 alpha |eta cos_t - cos_i| / cos_i, alpha_perp = sqrt2 alpha |eta cos_t -
-    // cos_i|. eta cos_t - cos_i = (eta^2 - 1) / (eta cos_t + cos_i): no cancellation near eta = 1.
-    float etaCosTMinusCosI =
-        (m.eta - float(1.0)) * (m.eta + float(1.0)) / (m.eta * cosThetaT + max(cosThetaI, float(0.0)));
-    float spread = RP_SQRT2 * m.alpha * etaCosTMinusCosI;
-    float cosI = max(cosThetaI, RP_MIN_COS);
+    // cos_i|, with eta cos_t - cos_i = (eta^2 - 1) / (eta cos_t + cos_i) (no cancellation near
+    // eta = 1). Their inverses come without a division (m.inv_spread); each width, floored at
+    // RP_MIN_ALPHA, with one.
+    float invPerp = (m.eta * cosThetaT + max(cosThetaI, float(0.0))) * m.inv_spread;
+    float invPar = min(invPerp * sqrt(cosI), float(1.0) / RP_MIN_ALPHA);
     if (m.retro_anisotropic != 0) {
-        s.alphaPar = max(spread / cosI, RP_MIN_ALPHA);
-        s.alphaPerp = max(spread, RP_MIN_ALPHA);
+        invPar = min(invPerp * cosI, float(1.0) / RP_MIN_ALPHA);
+        invPerp = min(invPerp, float(1.0) / RP_MIN_ALPHA);
     } else {
-        float alphaO = max(spread / sqrt(cosI), RP_MIN_ALPHA);
-        s.alphaPar = alphaO;
-        s.alphaPerp = alphaO;
+        invPerp = invPar;
     }
+    s.alphaPar = float(1.0) / invPar;
+    s.alphaPerp = m.retro_anisotropic != 0 ? float(1.0) / invPerp : s.alphaPar;
+    s.invAlphaPar2 = invPar * invPar;
+    s.invAlphaPerp2 = invPerp * invPerp;
+    s.retroNorm = RP_INV_PI * invPar * invPerp;
 }
 
 // The whole incident state: the lobes' (rp_incident_lobes) and the one-sample mixture's lobe
@@ -1176,7 +1250,7 @@ float rp_surface_pdf_from_D(in rp_incident s, float d) {
 }
 
 float rp_surface_pdf(in rp_material m, in rp_incident s, vec3 h) {
-    return rp_surface_pdf_from_D(s, rp_beckmann_D(rp_tan2(h), m.alpha));
+    return rp_surface_pdf_from_D(s, rp_beckmann_D_inv(rp_tan2(h), m.inv_alpha2));
 }
 
 // The retro lobe's direction density p_o about wi: a Gaussian in the slopes of wo in the
@@ -1187,12 +1261,13 @@ float rp_retro_density(in rp_incident s, vec3 wo, vec3 wi) {
     float cosP = dot(wo, wi);
     if (!(cosP > float(0.0))) return float(0.0);
     vec3 dw = wo - wi;
-    float sx = dot(dw, s.ePar) / cosP;
-    float sy = dot(dw, s.ePerp) / cosP;
-    float x = sx * sx / (s.alphaPar * s.alphaPar) + sy * sy / (s.alphaPerp * s.alphaPerp);
+    float invCosP = float(1.0) / cosP;
+    float sx = dot(dw, s.ePar) * invCosP;
+    float sy = dot(dw, s.ePerp) * invCosP;
+    float x = sx * sx * s.invAlphaPar2 + sy * sy * s.invAlphaPerp2;
     if (!(x <= RP_MAX_EXP)) return float(0.0);
     float sec2 = float(1.0) + sx * sx + sy * sy; // 1 / cos^2 of the angle to wi
-    return exp(-x) * sec2 * sqrt(sec2) * RP_INV_PI / (s.alphaPar * s.alphaPerp);
+    return exp(-x) * sec2 * sqrt(sec2) * s.retroNorm;
 }
 
 // All three lobes at (wi, wo) given the incident state (wo.z >= RP_MIN_COS), and, when
@@ -1206,32 +1281,42 @@ void rp_eval_lobes_pdf(in rp_material m, in rp_incident s, vec3 wi, vec3 wo,
     r.diffuse = vec3(float(0.0));
     pdf = float(0.0);
     float cosThetaO = wo.z;
-    float tan2ThetaO = rp_tan2(wo);
-    float lambdaO = rp_lambda(m.fidelity, tan2ThetaO, m.alpha);
-    float lambdaI = float(1.0) / s.g1I - float(1.0);
+    float sinThetaO = sqrt(max(float(0.0), wo.x * wo.x + wo.y * wo.y));
+    vec2 lambdaO =
+        rp_lambda_ratio(m, sinThetaO > float(0.0) ? cosThetaO * m.inv_alpha / sinThetaO : RP_BIG);
     float transO = rp_fresnel_transmittance(cosThetaO, m.eta);
+    // G2 = 1 / (1 + Lambda_i + Lambda_o) = dI dO / g2Den from the ratios, and G1(wo) =
+    // dO / (dO + nO); the surface lobe's 1 / (g2Den cos_o) and the retro lobe's
+    // 1 / ((dO + nO) cos_o) over one division.
+    float dd = s.lambdaI.y * lambdaO.y;
+    float g2Den = dd + s.lambdaI.x * lambdaO.y + lambdaO.x * s.lambdaI.y;
+    float sumO = lambdaO.y + lambdaO.x;
+    float den = g2Den * sumO * cosThetaO;
+    float rd = den > float(0.0) ? float(1.0) / den : float(0.0);
 
     if (m.specular > float(0.0)) {
+        // h = wi + wo (h.z >= 2 RP_MIN_COS): wi.h / |h| and tan^2 of h over one division.
         vec3 h = wi + wo;
-        float lenH = length(h);
-        if (lenH > float(0.0)) {
-            float cosIH = dot(wi, h) / lenH;
+        float len2H = dot(h, h);
+        float hz2 = h.z * h.z;
+        if (len2H * hz2 > float(0.0)) {
+            float rh = float(1.0) / (len2H * hz2);
+            float cosIH = dot(wi, h) * sqrt(len2H) * hz2 * rh;
             float fr = rp_fresnel_dielectric(cosIH, m.eta);
-            float d = rp_beckmann_D(rp_tan2(h), m.alpha);
-            float g2 = float(1.0) / (float(1.0) + lambdaI + lambdaO);
-            float fs = fr * d * g2 / (float(4.0) * s.cosThetaI * cosThetaO);
+            float d = rp_beckmann_D_inv((h.x * h.x + h.y * h.y) * len2H * rh, m.inv_alpha2);
+            float fs = fr * d * dd * sumO * rd * s.invCosI * float(0.25);
             r.surface = vec3(m.specular * fs);
             if (wantPdf) pdf += s.lobeProb.x * rp_surface_pdf_from_D(s, d);
         }
     }
     if (rp_mean3(m.retro_color) > float(0.0)) {
-        float g1O = float(1.0) / (float(1.0) + lambdaO);
         if (m.reciprocal == 0) {
             // Guo et al. 2018 as fixed by MODEL.md: E, alpha_o and the frame at wi; 1 / cos_o.
             if (s.era > float(0.0)) {
-                float gHat = s.g1I * s.g1T * s.g1T * g1O;
                 float po = rp_retro_density(s, wo, wi);
-                r.retro = m.retro_color * (s.era * s.transI * transO * gHat * po / cosThetaO);
+                float g1OverCosO = lambdaO.y * g2Den * rd;
+                r.retro = m.retro_color *
+                          (s.era * s.transI * transO * s.g1I * s.g1T * s.g1T * po * g1OverCosO);
                 if (wantPdf) pdf += s.lobeProb.y * po;
             }
         } else {
@@ -1241,7 +1326,7 @@ void rp_eval_lobes_pdf(in rp_material m, in rp_incident s, vec3 wi, vec3 wo,
             rp_incident sm;
             rp_incident_lobes(m, wMean, sm);
             if (sm.era > float(0.0)) {
-                float gHat = s.g1I * sm.g1T * sm.g1T * g1O;
+                float gHat = s.g1I * sm.g1T * sm.g1T * lambdaO.y * g2Den * rd * cosThetaO;
                 float po = rp_retro_density(sm, wo, wi);
                 r.retro = m.retro_color *
                           (sm.era * s.transI * transO * gHat * po / sqrt(s.cosThetaI * cosThetaO));
