@@ -340,3 +340,30 @@ TEMPLATE_TEST_CASE("consistency: below the horizon, sample() is empty and eval()
                    "[consistency]", double, float) {
     check_below_horizon<TestType>();
 }
+
+// f() is eval().f without the pdf: the same lobe arithmetic, so the same bits.
+TEMPLATE_TEST_CASE("consistency: f() equals eval().f", "[consistency]", double, float) {
+    using Node = PrismaticRetroreflector<TestType>;
+    using vec3 = typename Node::vec3;
+    rptest::Rng rng(0xf00du);
+    long checked = 0, differ = 0;
+    for (const rptest::Corner& corner : rptest::parameter_corners()) {
+        const Node node(corner.params);
+        for (int k = 0; k < 64; ++k) {
+            const vec3 wi(rptest::dir_deg(89.9 * rng.uniform(), 360.0 * rng.uniform()));
+            // Near the retro peak, near the mirror direction, or anywhere.
+            vec3 wo(rptest::dir_deg(89.9 * rng.uniform(), 360.0 * rng.uniform()));
+            if (k % 3 == 0) wo = glm::normalize(wi + vec3(TestType(0.01) * vec3(rng.uniform())));
+            if (k % 3 == 1) wo = vec3(-wi.x, -wi.y, wi.z);
+            const auto e = node.eval(wi, wo);
+            const auto f = node.f(wi, wo);
+            ++checked;
+            differ +=
+                !(f.surface == e.f.surface && f.retro == e.f.retro && f.diffuse == e.f.diffuse);
+        }
+    }
+    std::printf("MEASURED: consistency (%s): f() vs eval().f at %ld pairs, %ld differ\n",
+                Tol<TestType>::name, checked, differ);
+    CHECK(checked > 1000);
+    CHECK(differ == 0);
+}
