@@ -28,4 +28,4 @@ if command -v llvm-symbolizer >/dev/null 2>&1; then
 fi
 
 cd "$build"
-ctest --output-on-failure --timeout 3600 "$@"
+ctest --output-on-failure --timeout 3600 -j2 "$@"

@@ -91,6 +91,7 @@ void require_clean(const stress::Tally& t) {
     CHECK(t.negative == 0);
     CHECK(t.guard == 0);
     CHECK(t.inconsistent == 0);
+    CHECK(t.oob_bad == 0);
 }
 
 } // namespace

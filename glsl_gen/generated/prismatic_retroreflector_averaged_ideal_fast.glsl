@@ -1836,8 +1836,10 @@ float rp_lobe_pdf(in rp_material m, in rp_incident s, vec3 wi, vec3 wo, int lobe
 // horizon, which the caller rejects.
 vec3 rp_lobe_sample(in rp_material m, in rp_incident s, vec3 wi, int lobe, float u1,
                           float u2) {
-    u1 = clamp(u1, float(0.0), float(1.0));
-    u2 = clamp(u2, float(0.0), float(1.0));
+    // Clamped into [0, 1], NaN taken as 0: random numbers out of the contract give a direction,
+    // never a NaN.
+    u1 = rp_sanitize(u1, float(0.0), float(1.0), float(0.0));
+    u2 = rp_sanitize(u2, float(0.0), float(1.0), float(0.0));
     if (lobe == RP_LOBE_SURFACE) {
         vec3 wm = rp_beckmann_sample_visible(wi, m.alpha, u1, u2);
         return float(2.0) * dot(wi, wm) * wm - wi;
@@ -1902,7 +1904,7 @@ bool rp_sample(in rp_material m, vec3 wi, vec3 u, out vec3 wo, out rp_lobes r,
     if (!(wi.z >= RP_MIN_COS) || !(m.weight > float(0.0))) return false;
     rp_incident s;
     rp_incident_setup(m, wi, s);
-    float uLobe = clamp(u.z, float(0.0), float(1.0));
+    float uLobe = rp_sanitize(u.z, float(0.0), float(1.0), float(0.0));
     if (!(s.lobeProb.x + s.lobeProb.y + s.lobeProb.z > float(0.0))) return false;
     // The last lobe with a non-zero probability also takes uLobe = 1.
     if (uLobe < s.lobeProb.x || (s.lobeProb.y <= float(0.0) && s.lobeProb.z <= float(0.0))) {
