@@ -128,14 +128,16 @@ struct SimConfig {
 std::vector<SimConfig> read_study(const std::string& path) {
     std::ifstream in(path);
     if (!in) throw InputError(path + ": cannot open the accuracy study's results");
-    std::string line;
-    std::getline(in, line);
-    std::vector<std::string> head;
-    {
+    auto split = [](const std::string& line) {
+        std::vector<std::string> fields;
         std::stringstream ss(line);
         for (std::string c; std::getline(ss, c, ',');)
-            head.push_back(c);
-    }
+            fields.push_back(c);
+        return fields;
+    };
+    std::string line;
+    std::getline(in, line);
+    const std::vector<std::string> head = split(line);
     auto col = [&](const std::string& name) {
         const auto it = std::find(head.begin(), head.end(), name);
         if (it == head.end()) throw InputError(path + ":1: no column " + name);
@@ -144,15 +146,13 @@ std::vector<SimConfig> read_study(const std::string& path) {
     const size_t cTheta = col("theta_i_deg"), cRough = col("roughness"), cIor = col("ior"),
                  cPrism = col("prism_reflection"), cPeak = col("sim_retro_peak"),
                  cEnergy = col("sim_retro_energy"), cModel = col("iso_retro_peak");
+    const std::vector<std::string> prisms = enum_values(*find_param("prism_reflection"));
     std::vector<SimConfig> out;
     int lineNo = 1;
     while (std::getline(in, line)) {
         ++lineNo;
         if (line.empty()) continue;
-        std::vector<std::string> f;
-        std::stringstream ss(line);
-        for (std::string c; std::getline(ss, c, ',');)
-            f.push_back(c);
+        const std::vector<std::string> f = split(line);
         if (f.size() != head.size())
             throw InputError(path + ":" + std::to_string(lineNo) + ": expected " +
                              std::to_string(head.size()) + " fields, found " +
@@ -169,12 +169,11 @@ std::vector<SimConfig> read_study(const std::string& path) {
         s.thetaDeg = num(cTheta);
         s.roughness = num(cRough);
         s.ior = num(cIor);
-        const auto names = enum_values(*find_param("prism_reflection"));
-        const auto it = std::find(names.begin(), names.end(), f[cPrism]);
-        if (it == names.end())
+        const auto it = std::find(prisms.begin(), prisms.end(), f[cPrism]);
+        if (it == prisms.end())
             throw InputError(path + ":" + std::to_string(lineNo) + ": unknown prism_reflection '" +
                              f[cPrism] + "'");
-        s.prism = int(it - names.begin());
+        s.prism = int(it - prisms.begin());
         s.simPeak = num(cPeak);
         s.simEnergy = num(cEnergy);
         s.modelPeak = num(cModel);

@@ -207,18 +207,7 @@ void set_param(const Reader& r, const pugi::xml_node& input, const ParamInfo& in
             r.fail(input, "value \"" + text + "\" is not a number; expected a float in " + range);
         if (v < info.min_value || v > info.max_value)
             r.fail(input, "value " + num(v) + " is outside its range " + range);
-#define RP_FLOAT(n, def, lo, hi, doc)                                                              \
-    if (name == #n) p.n = v;
-#define RP_COLOR(n, cr, cg, cb, doc)
-#define RP_ENUM(n, def, values, doc)
-#define RP_VECTOR(n, x, y, z, geomprop, doc)
-#define RP_BOOL(n, def, doc)
-#include "prismatic_retroreflector_params.def"
-#undef RP_FLOAT
-#undef RP_COLOR
-#undef RP_ENUM
-#undef RP_VECTOR
-#undef RP_BOOL
+        *input_field<double>(p, name) = v;
         break;
     }
     case ParamType::Color: {
@@ -231,36 +220,14 @@ void set_param(const Reader& r, const pugi::xml_node& input, const ParamInfo& in
                 r.fail(input, "component " + std::to_string(k) + " = " + num(v[size_t(k)]) +
                                   " is outside its range [0, 1]");
         color.value = v;
-#define RP_FLOAT(n, def, lo, hi, doc)
-#define RP_COLOR(n, cr, cg, cb, doc)                                                               \
-    if (name == #n) p.n = v;
-#define RP_ENUM(n, def, values, doc)
-#define RP_VECTOR(n, x, y, z, geomprop, doc)
-#define RP_BOOL(n, def, doc)
-#include "prismatic_retroreflector_params.def"
-#undef RP_FLOAT
-#undef RP_COLOR
-#undef RP_ENUM
-#undef RP_VECTOR
-#undef RP_BOOL
+        *input_field<Color3>(p, name) = v;
         break;
     }
     case ParamType::Enum: {
         const int idx = enum_index(info, text);
         if (idx < 0)
             r.fail(input, "value \"" + text + "\" is not one of " + join(enum_values(info)));
-#define RP_FLOAT(n, def, lo, hi, doc)
-#define RP_COLOR(n, cr, cg, cb, doc)
-#define RP_ENUM(n, def, values, doc)                                                               \
-    if (name == #n) p.n = idx;
-#define RP_VECTOR(n, x, y, z, geomprop, doc)
-#define RP_BOOL(n, def, doc)
-#include "prismatic_retroreflector_params.def"
-#undef RP_FLOAT
-#undef RP_COLOR
-#undef RP_ENUM
-#undef RP_VECTOR
-#undef RP_BOOL
+        *input_field<int>(p, name) = idx;
         break;
     }
     case ParamType::Vector: {
@@ -269,36 +236,14 @@ void set_param(const Reader& r, const pugi::xml_node& input, const ParamInfo& in
             r.fail(input, "value \"" + text + "\" is not a vector3; expected \"x, y, z\"");
         if (!(v[0] * v[0] + v[1] * v[1] + v[2] * v[2] > 0.0))
             r.fail(input, "a direction must not be the zero vector");
-#define RP_FLOAT(n, def, lo, hi, doc)
-#define RP_COLOR(n, cr, cg, cb, doc)
-#define RP_ENUM(n, def, values, doc)
-#define RP_VECTOR(n, x, y, z, geomprop, doc)                                                       \
-    if (name == #n) p.n = v;
-#define RP_BOOL(n, def, doc)
-#include "prismatic_retroreflector_params.def"
-#undef RP_FLOAT
-#undef RP_COLOR
-#undef RP_ENUM
-#undef RP_VECTOR
-#undef RP_BOOL
+        *input_field<Vec3d>(p, name) = v;
         break;
     }
     case ParamType::Bool: {
         const std::string t = trim(text);
         if (t != "true" && t != "false")
             r.fail(input, "value \"" + text + "\" is not a boolean; expected true or false");
-#define RP_FLOAT(n, def, lo, hi, doc)
-#define RP_COLOR(n, cr, cg, cb, doc)
-#define RP_ENUM(n, def, values, doc)
-#define RP_VECTOR(n, x, y, z, geomprop, doc)
-#define RP_BOOL(n, def, doc)                                                                       \
-    if (name == #n) p.n = (t == "true");
-#include "prismatic_retroreflector_params.def"
-#undef RP_FLOAT
-#undef RP_COLOR
-#undef RP_ENUM
-#undef RP_VECTOR
-#undef RP_BOOL
+        *input_field<bool>(p, name) = t == "true";
         break;
     }
     }

@@ -264,83 +264,6 @@ std::vector<Vec3d> tangent_hard_values() {
             {1e-200, 1e-200, 0}, {1e-40, 0, 0}, {0, 1, 0}};
 }
 
-// Generic access to the inputs by name, from the parameter table.
-double* float_field(Params& p, const std::string& name) {
-#define RP_FLOAT(n, def, lo, hi, doc)                                                              \
-    if (name == #n) return &p.n;
-#define RP_COLOR(n, r, g, b, doc)
-#define RP_ENUM(n, def, values, doc)
-#define RP_VECTOR(n, x, y, z, geomprop, doc)
-#define RP_BOOL(n, def, doc)
-#include "prismatic_retroreflector_params.def"
-#undef RP_FLOAT
-#undef RP_COLOR
-#undef RP_ENUM
-#undef RP_VECTOR
-#undef RP_BOOL
-    return nullptr;
-}
-Color3* color_field(Params& p, const std::string& name) {
-#define RP_FLOAT(n, def, lo, hi, doc)
-#define RP_COLOR(n, r, g, b, doc)                                                                  \
-    if (name == #n) return &p.n;
-#define RP_ENUM(n, def, values, doc)
-#define RP_VECTOR(n, x, y, z, geomprop, doc)
-#define RP_BOOL(n, def, doc)
-#include "prismatic_retroreflector_params.def"
-#undef RP_FLOAT
-#undef RP_COLOR
-#undef RP_ENUM
-#undef RP_VECTOR
-#undef RP_BOOL
-    return nullptr;
-}
-int* enum_field(Params& p, const std::string& name) {
-#define RP_FLOAT(n, def, lo, hi, doc)
-#define RP_COLOR(n, r, g, b, doc)
-#define RP_ENUM(n, def, values, doc)                                                               \
-    if (name == #n) return &p.n;
-#define RP_VECTOR(n, x, y, z, geomprop, doc)
-#define RP_BOOL(n, def, doc)
-#include "prismatic_retroreflector_params.def"
-#undef RP_FLOAT
-#undef RP_COLOR
-#undef RP_ENUM
-#undef RP_VECTOR
-#undef RP_BOOL
-    return nullptr;
-}
-bool* bool_field(Params& p, const std::string& name) {
-#define RP_FLOAT(n, def, lo, hi, doc)
-#define RP_COLOR(n, r, g, b, doc)
-#define RP_ENUM(n, def, values, doc)
-#define RP_VECTOR(n, x, y, z, geomprop, doc)
-#define RP_BOOL(n, def, doc)                                                                       \
-    if (name == #n) return &p.n;
-#include "prismatic_retroreflector_params.def"
-#undef RP_FLOAT
-#undef RP_COLOR
-#undef RP_ENUM
-#undef RP_VECTOR
-#undef RP_BOOL
-    return nullptr;
-}
-Vec3d* vector_field(Params& p, const std::string& name) {
-#define RP_FLOAT(n, def, lo, hi, doc)
-#define RP_COLOR(n, r, g, b, doc)
-#define RP_ENUM(n, def, values, doc)
-#define RP_VECTOR(n, x, y, z, geomprop, doc)                                                       \
-    if (name == #n) return &p.n;
-#define RP_BOOL(n, def, doc)
-#include "prismatic_retroreflector_params.def"
-#undef RP_FLOAT
-#undef RP_COLOR
-#undef RP_ENUM
-#undef RP_VECTOR
-#undef RP_BOOL
-    return nullptr;
-}
-
 // One change of a material: a label and what it does.
 struct Mutation {
     std::string label;
@@ -365,19 +288,19 @@ std::vector<Mutation> single_mutations() {
             for (double v : named_hard_values(name))
                 values.push_back(v);
             for (double v : values)
-                out.push_back(
-                    {name + "=" + num(v), [name, v](Params& p) { *float_field(p, name) = v; }});
+                out.push_back({name + "=" + num(v),
+                               [name, v](Params& p) { *input_field<double>(p, name) = v; }});
             break;
         }
         case ParamType::Color:
             for (const Color3& c : color_hard_values())
                 out.push_back({name + "=(" + num(c[0]) + "," + num(c[1]) + "," + num(c[2]) + ")",
-                               [name, c](Params& p) { *color_field(p, name) = c; }});
+                               [name, c](Params& p) { *input_field<Color3>(p, name) = c; }});
             break;
         case ParamType::Enum:
             for (int v : enum_hard_values(int(enum_values(info).size())))
                 out.push_back({name + "=" + std::to_string(v),
-                               [name, v](Params& p) { *enum_field(p, name) = v; }});
+                               [name, v](Params& p) { *input_field<int>(p, name) = v; }});
             break;
         case ParamType::Bool:
             break; // both values are in every base combination
@@ -386,7 +309,7 @@ std::vector<Mutation> single_mutations() {
                 name == "normal" ? normal_hard_values() : tangent_hard_values();
             for (const Vec3d& v : values)
                 out.push_back({name + "=(" + num(v[0]) + "," + num(v[1]) + "," + num(v[2]) + ")",
-                               [name, v](Params& p) { *vector_field(p, name) = v; }});
+                               [name, v](Params& p) { *input_field<Vec3d>(p, name) = v; }});
             break;
         }
         }
@@ -395,8 +318,8 @@ std::vector<Mutation> single_mutations() {
     const Vec3d tilted = {0.2, -0.1, 1.0};
     for (double eps : {0.0, 1e-9, 1e-6, 1e-3}) {
         out.push_back({"normal=tilted,tangent=normal+" + num(eps), [tilted, eps](Params& p) {
-                           *vector_field(p, "normal") = tilted;
-                           *vector_field(p, "tangent") = {tilted[0] + eps, tilted[1], tilted[2]};
+                           p.normal = tilted;
+                           p.tangent = {tilted[0] + eps, tilted[1], tilted[2]};
                        }});
     }
     return out;
@@ -427,9 +350,9 @@ Params combination(long k) {
     for (const auto& d : discrete_inputs()) {
         const int v = int(k % d.second);
         k /= d.second;
-        if (int* e = enum_field(p, d.first))
+        if (int* e = input_field<int>(p, d.first))
             *e = v;
-        else if (bool* b = bool_field(p, d.first))
+        else if (bool* b = input_field<bool>(p, d.first))
             *b = v != 0;
     }
     return p;
@@ -463,7 +386,7 @@ Params material(long index, std::string* label) {
         const bool hard = rng.uniform() < 0.4;
         switch (info.type) {
         case ParamType::Float: {
-            double* f = float_field(p, name);
+            double* f = input_field<double>(p, name);
             if (hard) {
                 std::vector<double> values =
                     float_hard_values(info.min_value, info.max_value, info.default_value[0]);
@@ -476,7 +399,7 @@ Params material(long index, std::string* label) {
             break;
         }
         case ParamType::Color: {
-            Color3* c = color_field(p, name);
+            Color3* c = input_field<Color3>(p, name);
             if (hard) {
                 const std::vector<Color3> values = color_hard_values();
                 *c = values[rng.index(values.size())];
@@ -488,13 +411,13 @@ Params material(long index, std::string* label) {
         case ParamType::Enum:
             if (hard) {
                 const std::vector<int> values = enum_hard_values(int(enum_values(info).size()));
-                *enum_field(p, name) = values[rng.index(values.size())];
+                *input_field<int>(p, name) = values[rng.index(values.size())];
             }
             break;
         case ParamType::Bool:
             break;
         case ParamType::Vector: {
-            Vec3d* v = vector_field(p, name);
+            Vec3d* v = input_field<Vec3d>(p, name);
             if (hard) {
                 const std::vector<Vec3d> values =
                     name == "normal" ? normal_hard_values() : tangent_hard_values();

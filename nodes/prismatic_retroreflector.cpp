@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <type_traits>
 
 #include "quadrature.h"
 
@@ -36,6 +37,41 @@ const ParamInfo* find_param(const std::string& name) {
         if (name == info.name) return &info;
     return nullptr;
 }
+
+namespace {
+
+template <class T, class U>
+T* if_same_type(U* field) {
+    if constexpr (std::is_same_v<T, U>)
+        return field;
+    else
+        return nullptr;
+}
+
+} // namespace
+
+template <class T>
+T* input_field(Params& p, const std::string& name) {
+#define RP_FIELD(n)                                                                                \
+    if (name == #n) return if_same_type<T>(&p.n);
+#define RP_FLOAT(n, def, lo, hi, doc) RP_FIELD(n)
+#define RP_COLOR(n, r, g, b, doc) RP_FIELD(n)
+#define RP_ENUM(n, def, values, doc) RP_FIELD(n)
+#define RP_VECTOR(n, x, y, z, geomprop, doc) RP_FIELD(n)
+#define RP_BOOL(n, def, doc) RP_FIELD(n)
+#include "prismatic_retroreflector_params.def"
+#undef RP_FIELD
+#undef RP_FLOAT
+#undef RP_COLOR
+#undef RP_ENUM
+#undef RP_VECTOR
+#undef RP_BOOL
+    return nullptr;
+}
+template double* input_field<double>(Params&, const std::string&);
+template int* input_field<int>(Params&, const std::string&);
+template bool* input_field<bool>(Params&, const std::string&);
+template Vec3d* input_field<Vec3d>(Params&, const std::string&);
 
 std::vector<std::string> enum_values(const ParamInfo& info) {
     std::vector<std::string> out;

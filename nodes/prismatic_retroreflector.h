@@ -68,6 +68,10 @@ struct ParamInfo {
 };
 const std::vector<ParamInfo>& param_table();
 const ParamInfo* find_param(const std::string& name);
+// The input called `name` of `p`, by name, when it has the C++ type T (double for floats, int
+// for enums, bool, Color3 = Vec3d for colours and vectors); nullptr otherwise.
+template <class T>
+T* input_field(Params& p, const std::string& name);
 // The enum's values as a list, and the index of `value` in it (-1 when absent).
 std::vector<std::string> enum_values(const ParamInfo& info);
 int enum_index(const ParamInfo& info, const std::string& value);

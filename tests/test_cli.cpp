@@ -3,8 +3,6 @@
 // and no output file.
 #include <catch2/catch.hpp>
 
-#include <sys/wait.h>
-
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -21,39 +19,21 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Run {
-    int status = -1;
-    std::string output; // stdout and stderr together
-};
+using Run = rptest::CommandRun;
+using rptest::contains;
 
+// The command with `args`, its standard input from stdinText when that is not empty.
 Run run(const std::string& args, const std::string& stdinText = "") {
-    std::string cmd = std::string(RP_CLI_PATH) + " " + args + " 2>&1";
-    fs::path in;
-    if (!stdinText.empty()) {
-        in = fs::temp_directory_path() / "retroprism_test_stdin.json";
-        std::ofstream(in) << stdinText;
-        cmd = cmd + " < " + in.string();
-    }
-    Run r;
-    FILE* p = popen(cmd.c_str(), "r");
-    REQUIRE(p);
-    char buf[4096];
-    size_t n;
-    while ((n = fread(buf, 1, sizeof buf, p)) > 0)
-        r.output.append(buf, n);
-    int st = pclose(p);
-    r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-    return r;
+    if (stdinText.empty()) return rptest::run_cli(args);
+    const fs::path in = fs::temp_directory_path() / "retroprism_test_stdin.json";
+    std::ofstream(in) << stdinText;
+    return rptest::run_cli(args + " < " + in.string());
 }
 
 fs::path write_temp(const std::string& name, const std::string& text) {
     fs::path p = fs::temp_directory_path() / ("retroprism_test_" + name);
     std::ofstream(p) << text;
     return p;
-}
-
-bool contains(const std::string& s, const std::string& part) {
-    return s.find(part) != std::string::npos;
 }
 
 } // namespace

@@ -5,7 +5,6 @@
 // document).
 #include <catch2/catch.hpp>
 
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -35,31 +34,10 @@ namespace {
 
 constexpr double kDeg = M_PI / 180.0;
 
-struct Run {
-    int status = -1;
-    std::string output; // stdout and stderr together
-};
-
-Run run(const std::string& cmd) {
-    Run r;
-    FILE* p = popen((cmd + " 2>&1").c_str(), "r");
-    REQUIRE(p);
-    char buf[4096];
-    size_t n;
-    while ((n = fread(buf, 1, sizeof buf, p)) > 0)
-        r.output.append(buf, n);
-    const int st = pclose(p);
-    r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-    return r;
-}
-
-Run cli(const std::string& args) {
-    return run(std::string(RP_CLI_PATH) + " " + args);
-}
-
-bool contains(const std::string& s, const std::string& part) {
-    return s.find(part) != std::string::npos;
-}
+using Run = rptest::CommandRun;
+using rptest::contains;
+const auto& run = rptest::run_command;
+const auto& cli = rptest::run_cli;
 
 // A fresh empty folder under the temporary directory.
 fs::path temp_dir(const std::string& name) {

@@ -11,8 +11,6 @@
 // light, wo toward the viewer; f in 1/sr without the cosine.
 #include <catch2/catch.hpp>
 
-#include <sys/wait.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -67,28 +65,9 @@ std::uint64_t fate_sum(const sim::Tally& t) {
 // Standard normal two-sided tail bound: |z| beyond this has probability below 1e-4.
 const double kZ4 = 3.891;
 
-struct CliRun {
-    int status = -1;
-    std::string output;
-};
-
-CliRun run_cli(const std::string& args) {
-    const std::string cmd = std::string(RP_CLI_PATH) + " " + args + " 2>&1";
-    CliRun r;
-    FILE* p = popen(cmd.c_str(), "r");
-    REQUIRE(p);
-    char buf[4096];
-    size_t n;
-    while ((n = fread(buf, 1, sizeof buf, p)) > 0)
-        r.output.append(buf, n);
-    const int st = pclose(p);
-    r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-    return r;
-}
-
-bool contains(const std::string& s, const std::string& part) {
-    return s.find(part) != std::string::npos;
-}
+using CliRun = rptest::CommandRun;
+using rptest::contains;
+using rptest::run_cli;
 
 // The accuracy study's comparison of the four analytic variants with the simulator at one
 // configuration (the definitions of docs/accuracy.md, as in cli/simulate.cpp run_config): the

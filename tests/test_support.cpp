@@ -1,7 +1,11 @@
 #include "test_support.h"
 
+#include <sys/wait.h>
+
 #include <cmath>
+#include <cstdio>
 #include <limits>
+#include <stdexcept>
 
 namespace rptest {
 
@@ -85,6 +89,27 @@ std::vector<Corner> parameter_corners() {
                          p});
                 }
     return out;
+}
+
+CommandRun run_command(const std::string& cmd) {
+    FILE* p = popen((cmd + " 2>&1").c_str(), "r");
+    if (!p) throw std::runtime_error("cannot run " + cmd);
+    CommandRun r;
+    char buf[4096];
+    size_t n;
+    while ((n = fread(buf, 1, sizeof buf, p)) > 0)
+        r.output.append(buf, n);
+    const int st = pclose(p);
+    r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+    return r;
+}
+
+CommandRun run_cli(const std::string& args) {
+    return run_command(std::string(RP_CLI_PATH) + " " + args);
+}
+
+bool contains(const std::string& s, const std::string& part) {
+    return s.find(part) != std::string::npos;
 }
 
 } // namespace rptest

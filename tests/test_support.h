@@ -1,5 +1,5 @@
 // test_support.h: helpers shared by the tests: directions, a seeded generator, the
-// chi-square distribution, and the parameter corners every sweep uses.
+// chi-square distribution, the parameter corners every sweep uses, and running the command.
 #pragma once
 
 #include <cstdint>
@@ -43,5 +43,17 @@ struct Corner {
 };
 // The corners of the parameter space: roughness, ior, colours and every enum value.
 std::vector<Corner> parameter_corners();
+
+// A shell command's exit status (-1 when it did not exit normally) and its standard output and
+// error together.
+struct CommandRun {
+    int status = -1;
+    std::string output;
+};
+CommandRun run_command(const std::string& cmd);
+// The retroprism command (RP_CLI_PATH) with `args`.
+CommandRun run_cli(const std::string& args);
+
+bool contains(const std::string& s, const std::string& part);
 
 } // namespace rptest

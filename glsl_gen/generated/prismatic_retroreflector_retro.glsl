@@ -3395,15 +3395,11 @@ float rp_tan2(vec3 w) {
 // Beckmann NDF D(m) = exp(-tan^2/alpha^2) / (pi alpha^2 cos^4), written with
 // 1/cos^4 = (1 + tan^2)^2 so that no cosine is divided by, from invAlpha2 = 1 / alpha^2.
 // 0 beyond RP_MAX_EXP.
-float rp_beckmann_D_inv(float tan2ThetaM, float invAlpha2) {
+float rp_beckmann_D(float tan2ThetaM, float invAlpha2) {
     float x = tan2ThetaM * invAlpha2;
     if (!(x <= RP_MAX_EXP)) return float(0.0);
     float s = float(1.0) + tan2ThetaM;
     return exp(-x) * s * s * RP_INV_PI * invAlpha2;
-}
-
-float rp_beckmann_D(float tan2ThetaM, float alpha) {
-    return rp_beckmann_D_inv(tan2ThetaM, float(1.0) / (alpha * alpha));
 }
 
 // Smith Lambda of Beckmann (Walter et al. 2007, Eq. 27 with the exact erf) of a = 1/(alpha tan):

@@ -3917,15 +3917,11 @@ float rp_tan2(vec3 w) {
 // Beckmann NDF D(m) = exp(-tan^2/alpha^2) / (pi alpha^2 cos^4), written with
 // 1/cos^4 = (1 + tan^2)^2 so that no cosine is divided by, from invAlpha2 = 1 / alpha^2.
 // 0 beyond RP_MAX_EXP.
-float rp_beckmann_D_inv(float tan2ThetaM, float invAlpha2) {
+float rp_beckmann_D(float tan2ThetaM, float invAlpha2) {
     float x = tan2ThetaM * invAlpha2;
     if (!(x <= RP_MAX_EXP)) return float(0.0);
     float s = float(1.0) + tan2ThetaM;
     return exp(-x) * s * s * RP_INV_PI * invAlpha2;
-}
-
-float rp_beckmann_D(float tan2ThetaM, float alpha) {
-    return rp_beckmann_D_inv(tan2ThetaM, float(1.0) / (alpha * alpha));
 }
 
 // Smith Lambda of Beckmann (Walter et al. 2007, Eq. 27 with the exact erf) of a = 1/(alpha tan):
@@ -4521,7 +4517,7 @@ float rp_surface_pdf_from_D(in rp_incident s, float d) {
 }
 
 float rp_surface_pdf(in rp_material m, in rp_incident s, vec3 h) {
-    return rp_surface_pdf_from_D(s, rp_beckmann_D_inv(rp_tan2(h), m.inv_alpha2));
+    return rp_surface_pdf_from_D(s, rp_beckmann_D(rp_tan2(h), m.inv_alpha2));
 }
 
 // The retro lobe's direction density p_o about wi: a Gaussian in the slopes of wo in the
@@ -4574,7 +4570,7 @@ void rp_eval_lobes_pdf(in rp_material m, in rp_incident s, vec3 wi, vec3 wo,
             float rh = float(1.0) / (len2H * hz2);
             float cosIH = dot(wi, h) * sqrt(len2H) * hz2 * rh;
             float fr = rp_fresnel_dielectric(cosIH, m.eta);
-            float d = rp_beckmann_D_inv((h.x * h.x + h.y * h.y) * len2H * rh, m.inv_alpha2);
+            float d = rp_beckmann_D((h.x * h.x + h.y * h.y) * len2H * rh, m.inv_alpha2);
             float fs = fr * d * dd * sumO * rd * s.invCosI * float(0.25);
             r.surface = vec3(m.specular * fs);
             if (wantPdf) pdf += s.lobeProb.x * rp_surface_pdf_from_D(s, d);
