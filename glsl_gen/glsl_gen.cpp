@@ -160,7 +160,7 @@ std::string to_glsl(std::string s, const Variant& v) {
     s = std::regex_replace(s, std::regex(R"(RP_TABLE_BEGIN\((\w+), (\d+)\))"),
                            "const float $1[$2] = float[$2](");
     s = std::regex_replace(s, std::regex(R"(\bRP_TABLE_END\b)"), ");");
-    s = std::regex_replace(s, std::regex(R"(\bRP_FN )"), "");
+    s = std::regex_replace(s, std::regex(R"(\bRP_FN(_HOT|_COLD)? )"), "");
     s = std::regex_replace(s, std::regex(R"(\bRP_OUT\((\w+)\))"), "out $1");
     s = std::regex_replace(s, std::regex(R"(\bRP_IN\((\w+)\))"), "in $1");
     s = std::regex_replace(s, std::regex(R"(\breal\b)"), "float");

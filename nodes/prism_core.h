@@ -8,6 +8,11 @@
 #include <glm/glm.hpp>
 
 #define RP_FN inline
+// The evaluation path is one function: its small helpers always inlined (their incident state
+// then lives in registers and eval drops what it does not use), the rare reciprocal-form
+// branches kept out of it.
+#define RP_FN_HOT inline __attribute__((always_inline))
+#define RP_FN_COLD __attribute__((noinline)) inline
 #define RP_OUT(T) T&
 #define RP_IN(T) const T&
 #define RP_TABLE_BEGIN(name, n) inline const real name[n] = {

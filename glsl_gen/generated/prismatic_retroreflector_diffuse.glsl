@@ -3746,6 +3746,9 @@ const float rp_fdr_ext_table[2049] = float[2049](
 // Rules of the subset (checked by compiling both ways):
 //  - scalar type `float`, vectors vec2/vec3; literals written float(0.5); no swizzles;
 //  - functions start with RP_FN; out-parameters are out T, read-only structs in T;
+//    marks the small functions of the evaluation path, which C++ always inlines (so
+//    that eval is one function whose incident state lives in registers and loses the parts it
+//    does not use), the rarely taken ones it must not inline; GLSL inlines anyway;
 //  - no templates, references, pointers, recursion, constructors of structs or std::;
 //  - erf, erfc and erfinv come from the including language's prelude (rp_erf, rp_erfc,
 //    rp_erfinv): std::erf in C++, a documented approximation in GLSL;
@@ -3775,6 +3778,10 @@ const float RP_BIG = float(1e30);
 // Exponents beyond this are returned as exactly 0 (exp(-80) = 1.8e-35): keeps 0 * inf out
 // of the Beckmann terms when a tangent overflows.
 const float RP_MAX_EXP = float(80.0);
+// Smith Lambda is 0 for a = 1 / (alpha tan) beyond these: exactly (in float) for the exact
+// Beckmann Lambda (below 1e-37 at a = 9), by construction for the fast tier's fit.
+const float RP_LAMBDA_EXACT_CUT = float(9.0);
+const float RP_LAMBDA_FAST_CUT = float(1.6);
 // Visible-normal sampling: a view this close to the normal samples the plain Gaussian slope
 // distribution (exact at tan = 0; the visible-area factor differs from 1 by tan * slope).
 const float RP_VNDF_MIN_TAN = float(1e-7);
@@ -3864,9 +3871,11 @@ float rp_fresnel_dielectric(float cosThetaI, float eta) {
     float q = c * c * (eta * eta + float(1.0)) - float(1.0);
     // a, b <= 144, and a, b >= g^2 >= eta^2 - 1 >= 2.4e-7 for eta > 1 in float: a^2 b^2 underflows
     // only at eta = 1, where F = 0 (but at c = 0, returned above).
-    float den = a * a * b * b;
+    float a2 = a * a;
+    float b2 = b * b;
+    float den = a2 * b2;
     if (!(den > float(0.0))) return float(0.0);
-    float f = float(0.5) * eta2m1 * eta2m1 * (b * b + q * q * a * a) / den;
+    float f = float(0.5) * eta2m1 * eta2m1 * (b2 + q * q * a2) / den;
     return clamp(f, float(0.0), float(1.0));
 }
 
@@ -3923,9 +3932,9 @@ float rp_beckmann_D(float tan2ThetaM, float invAlpha2) {
 
 // Smith Lambda of Beckmann (Walter et al. 2007, Eq. 27 with the exact erf) of a = 1/(alpha tan):
 // Lambda = (erf(a) - 1)/2 + exp(-a^2)/(2 a sqrt(pi)), written with erfc to avoid the
-// cancellation of erf(a) - 1; 0 for a > 9 (Lambda < 1e-37 there).
+// cancellation of erf(a) - 1; 0 for a > RP_LAMBDA_EXACT_CUT = 9 (Lambda < 1e-37 there).
 float rp_beckmann_lambda_of_a(float a) {
-    if (!(a <= float(9.0))) return float(0.0);
+    if (!(a <= RP_LAMBDA_EXACT_CUT)) return float(0.0);
     float lambda = float(0.5) * (exp(-a * a) * RP_INV_SQRT_PI / a - rp_erfc(a));
     return max(lambda, float(0.0));
 }
@@ -3937,11 +3946,12 @@ float rp_beckmann_lambda(float tan2Theta, float alpha) {
 }
 
 // The fast tier's Smith Lambda of Beckmann: Walter et al. 2007's rational fit (Eq. 27, after
-// Beckmann), (1 - 1.259 a + 0.396 a^2) / (3.535 a + 2.181 a^2) for a < 1.6, else 0; no erf
+// Beckmann), (1 - 1.259 a + 0.396 a^2) / (3.535 a + 2.181 a^2) for a < 1.6, else 0 (the fit's
+// numerator is 0 to 6e-4 at a = 1.6: RP_LAMBDA_FAST_CUT); no erf
 // or exp. Kept as the ratio (numerator, denominator), so that G1 and G2 take one division
 // each. Its error is measured by tests/test_physics.cpp.
 vec2 rp_beckmann_lambda_fast_ratio(float a) {
-    if (!(a < float(1.6))) return vec2(float(0.0), float(1.0));
+    if (!(a < RP_LAMBDA_FAST_CUT)) return vec2(float(0.0), float(1.0));
     return vec2(float(1.0) - float(1.259) * a + float(0.396) * a * a,
                 float(3.535) * a + float(2.181) * a * a);
 }
@@ -3961,6 +3971,16 @@ vec2 rp_lambda_ratio(in rp_material m, float a) {
     if (m.fidelity == RP_FIDELITY_FAST) return rp_beckmann_lambda_fast_ratio(a);
     if (m.fidelity == RP_FIDELITY_EXACT) return vec2(rp_beckmann_lambda_of_a(a), float(1.0));
     return vec2(float(0.0), float(1.0));
+}
+
+// The same for a direction at cos(theta) = c > 0 and sin^2(theta) = sin2, without the square root
+// and division of a = c / (alpha sin) where a is beyond the tier's cut-off (Lambda = 0 there:
+// every direction within about 80 degrees of the normal for alpha <= 0.1).
+vec2 rp_lambda_ratio_dir(in rp_material m, float c, float sin2) {
+    float cut = RP_LAMBDA_EXACT_CUT;
+    if (m.fidelity == RP_FIDELITY_FAST) cut = RP_LAMBDA_FAST_CUT;
+    if (!(c * c * m.inv_alpha2 < cut * cut * sin2)) return vec2(float(0.0), float(1.0));
+    return rp_lambda_ratio(m, c * m.inv_alpha / sqrt(sin2));
 }
 
 // G1 = 1 / (1 + Lambda) of a Lambda ratio.
@@ -4335,7 +4355,7 @@ float rp_mean3(vec3 c) {
 
 // The estimates behind the mixture weights, from the incident state (see rp_estimates_at).
 void rp_lobe_estimates(in rp_material m, in rp_incident s, out vec3 surface,
-                             out vec3 retro, out vec3 diffuse) {
+                                 out vec3 retro, out vec3 diffuse) {
     surface = vec3(float(0.0));
     retro = vec3(float(0.0));
     diffuse = vec3(float(0.0));
@@ -4417,20 +4437,27 @@ void rp_estimates_at(in rp_material m, vec3 wi, out vec3 surface, out vec3 retro
 
 
 
+
+// The reciprocal form's fraction of light that reaches the substrate: the geometric mean of the
+// fractions passed on the way in (1 - eraI) and out.
+float rp_passed_reciprocal(in rp_material m, float eraI, vec3 wo) {
+    rp_incident so;
+    rp_incident_lobes(m, wo, so);
+    return sqrt(max(float(0.0), (float(1.0) - eraI) * (float(1.0) - so.era)));
+}
+
 // All three lobes at (wi, wo) given the incident state (wo.z >= RP_MIN_COS), and, when
 // wantPdf, the mixture pdf of rp_sample at wo, sum over the lobes of P_k pdf_k (MODEL.md
 // section 4), from the same D(h) and p_o the lobes use (0 otherwise: callers pass a constant,
 // and the pdf's work is compiled away where it is false).
 void rp_eval_lobes_pdf(in rp_material m, in rp_incident s, vec3 wi, vec3 wo,
-                             bool wantPdf, out rp_lobes r, out float pdf) {
+                                 bool wantPdf, out rp_lobes r, out float pdf) {
     r.surface = vec3(float(0.0));
     r.retro = vec3(float(0.0));
     r.diffuse = vec3(float(0.0));
     pdf = float(0.0);
     float cosThetaO = wo.z;
-    float sinThetaO = sqrt(max(float(0.0), wo.x * wo.x + wo.y * wo.y));
-    vec2 lambdaO =
-        rp_lambda_ratio(m, sinThetaO > float(0.0) ? cosThetaO * m.inv_alpha / sinThetaO : RP_BIG);
+    vec2 lambdaO = rp_lambda_ratio_dir(m, cosThetaO, wo.x * wo.x + wo.y * wo.y);
     float transO = rp_fresnel_transmittance(cosThetaO, m.eta);
     // G2 = 1 / (1 + Lambda_i + Lambda_o) = dI dO / g2Den from the ratios, and G1(wo) =
     // dO / (dO + nO); the surface lobe's 1 / (g2Den cos_o) and the retro lobe's
@@ -4444,11 +4471,7 @@ void rp_eval_lobes_pdf(in rp_material m, in rp_incident s, vec3 wi, vec3 wo,
     // The light that reaches the substrate: (1 - E(mu_t(wi))) in the paper's form; in the
     // reciprocal one the geometric mean of the fractions passed on the way in and out.
     float passed = float(1.0) - s.era;
-    if (m.reciprocal != 0) {
-        rp_incident so;
-        rp_incident_lobes(m, wo, so);
-        passed = sqrt(max(float(0.0), (float(1.0) - s.era) * (float(1.0) - so.era)));
-    }
+    if (m.reciprocal != 0) passed = rp_passed_reciprocal(m, s.era, wo);
     r.diffuse = m.diffuse_scale * (s.transI * transO * passed);
     if (wantPdf) pdf += s.lobeProb.z * cosThetaO * RP_INV_PI;
     r.surface *= m.weight;
