@@ -323,20 +323,48 @@ void write_plot(const std::vector<Result>& results, const std::string& path) {
     for (size_t i = 1; i < front.size(); ++i)
         thick_line(img, X(front[i - 1]->nsEval), Y(front[i - 1]->error), X(front[i]->nsEval),
                    Y(front[i]->error), kLobeColor[1], 2, OIIO::ROI(left, right, top, bottom));
-    for (const Result* p : pts) {
+    // Labels stacked downwards where rows of nearly the same cost and error would overlap (a
+    // leader line joins a moved label to its point); 7 px per character at size 13.
+    struct Box {
+        int x0, y0, x1, y1;
+    };
+    std::vector<Box> placed;
+    std::vector<const Result*> byPos = pts;
+    std::sort(byPos.begin(), byPos.end(), [](const Result* a, const Result* b) {
+        return a->error != b->error ? a->error > b->error : a->nsEval < b->nsEval;
+    });
+    for (const Result* p : byPos) {
         const bool onFront = std::find(front.begin(), front.end(), p) != front.end();
-        dot(img, X(p->nsEval), Y(p->error), 5, onFront ? kLobeColor[1] : kLobeColor[0],
+        const int px = X(p->nsEval), py = Y(p->error);
+        dot(img, px, py, 5, onFront ? kLobeColor[1] : kLobeColor[0],
             OIIO::ROI(left, right, top, bottom));
-        text.draw(img, X(p->nsEval) + 8, Y(p->error) - 6, p->row->name, 13, kText);
+        Box b{px + 8, py - 17, px + 8 + 7 * int(p->row->name.size()), py - 3};
+        auto overlaps = [&](const Box& a) {
+            for (const Box& q : placed)
+                if (a.x0 < q.x1 && q.x0 < a.x1 && a.y0 < q.y1 && q.y0 < a.y1) return true;
+            return false;
+        };
+        while (overlaps(b)) {
+            b.y0 += 15;
+            b.y1 += 15;
+        }
+        placed.push_back(b);
+        if (b.y1 != py - 3) IBA::render_line(img, px + 3, py + 3, b.x0 - 2, b.y1 - 5, kDimText);
+        text.draw(img, b.x0, b.y1 - 3, p->row->name, 13, kText);
     }
     for (const Result& r : results)
         if (r.row->name == "mrm_ggx") {
             IBA::render_line(img, X(r.nsEval), top, X(r.nsEval), bottom, kLobeColor[2]);
             text.draw(img, X(r.nsEval) + 4, top + 16, "MaterialX retro GGX", 14, kLobeColor[2]);
+            // The targets of the trade: fast within 2x, exact within 6x.
+            for (double k : {2.0, 6.0}) {
+                dashed_vline(img, X(k * r.nsEval), top, bottom, kDimText);
+                text.draw(img, X(k * r.nsEval) + 4, bottom - 8, fmt("%.0fx", k), 13, kDimText);
+            }
         }
     text.draw(img, 30, 36,
-              "retroprism: cost (ns per eval, float unless reference) vs relative L1 error "
-              "against the double reference; Pareto front in orange",
+              "retroprism: ns per eval vs relative L1 error against the double reference "
+              "(Pareto front in orange)",
               17, kText);
     text.draw(img, (left + right) / 2, H - 24, "ns per evaluation (log)", 16, kDimText,
               IBA::TextAlignX::Center);
