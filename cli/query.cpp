@@ -118,46 +118,53 @@ Params params_from_json(const json& j, const std::string& where) {
         }
         const json& v = it.value();
         const std::string name = info->name;
-#define RP_FLOAT(n, def, lo, hi, doc)                                                              \
-    if (name == #n) p.n = number_in_range(v, field, lo, hi);
-#define RP_COLOR(n, r, g, b, doc)                                                                  \
-    if (name == #n) p.n = vector3(v, field, 0.0, 1.0);
-#define RP_ENUM(n, def, values, doc)                                                               \
-    if (name == #n) {                                                                              \
-        int idx = v.is_string() ? enum_index(*info, v.get<std::string>()) : -1;                    \
-        if (idx < 0) throw InputError(field + ": expected one of \"" values "\"");                 \
-        p.n = idx;                                                                                 \
-    }
-#define RP_VECTOR(n, x, y, z, geomprop, doc)                                                       \
-    if (name == #n) p.n = direction(v, field);
-#define RP_BOOL(n, def, doc)                                                                       \
-    if (name == #n) {                                                                              \
-        if (!v.is_boolean()) throw InputError(field + ": expected true or false");                 \
-        p.n = v.get<bool>();                                                                       \
-    }
-#include "prismatic_retroreflector_params.def"
-#undef RP_FLOAT
-#undef RP_COLOR
-#undef RP_ENUM
-#undef RP_VECTOR
-#undef RP_BOOL
+        switch (info->type) {
+        case ParamType::Float:
+            *input_field<double>(p, name) =
+                number_in_range(v, field, info->min_value, info->max_value);
+            break;
+        case ParamType::Color:
+            *input_field<Vec3d>(p, name) = vector3(v, field, info->min_value, info->max_value);
+            break;
+        case ParamType::Enum: {
+            const int idx = v.is_string() ? enum_index(*info, v.get<std::string>()) : -1;
+            if (idx < 0)
+                throw InputError(field + ": expected one of \"" + info->enum_values + "\"");
+            *input_field<int>(p, name) = idx;
+            break;
+        }
+        case ParamType::Vector:
+            *input_field<Vec3d>(p, name) = direction(v, field);
+            break;
+        case ParamType::Bool:
+            if (!v.is_boolean()) throw InputError(field + ": expected true or false");
+            *input_field<bool>(p, name) = v.get<bool>();
+            break;
+        }
     }
     return p;
 }
 
-json params_to_json(const Params& p) {
+json params_to_json(const Params& in) {
+    Params p = in; // input_field reads through a non-const Params
     json j = json::object();
-#define RP_FLOAT(n, def, lo, hi, doc) j[#n] = p.n;
-#define RP_COLOR(n, r, g, b, doc) j[#n] = p.n;
-#define RP_ENUM(n, def, values, doc) j[#n] = enum_values(*find_param(#n)).at(size_t(p.n));
-#define RP_VECTOR(n, x, y, z, geomprop, doc) j[#n] = p.n;
-#define RP_BOOL(n, def, doc) j[#n] = p.n;
-#include "prismatic_retroreflector_params.def"
-#undef RP_FLOAT
-#undef RP_COLOR
-#undef RP_ENUM
-#undef RP_VECTOR
-#undef RP_BOOL
+    for (const ParamInfo& info : param_table()) {
+        switch (info.type) {
+        case ParamType::Float:
+            j[info.name] = *input_field<double>(p, info.name);
+            break;
+        case ParamType::Color:
+        case ParamType::Vector:
+            j[info.name] = *input_field<Vec3d>(p, info.name);
+            break;
+        case ParamType::Enum:
+            j[info.name] = enum_values(info).at(size_t(*input_field<int>(p, info.name)));
+            break;
+        case ParamType::Bool:
+            j[info.name] = *input_field<bool>(p, info.name);
+            break;
+        }
+    }
     return j;
 }
 
