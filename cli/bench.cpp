@@ -34,7 +34,8 @@ namespace retroprism {
 
 namespace {
 
-// Collects each benchmark's real time per iteration (ns).
+// Collects each benchmark's CPU time per iteration (ns): the median of its repetitions when
+// there are several, else its one run.
 class Collector : public benchmark::BenchmarkReporter {
   public:
     std::map<std::string, double> ns;
@@ -42,9 +43,12 @@ class Collector : public benchmark::BenchmarkReporter {
     void ReportRuns(const std::vector<Run>& runs) override {
         for (const Run& r : runs) {
             if (r.error_occurred) continue;
-            ns[r.benchmark_name()] = r.GetAdjustedCPUTime() *
-                                     benchmark::GetTimeUnitMultiplier(benchmark::kNanosecond) /
-                                     benchmark::GetTimeUnitMultiplier(r.time_unit);
+            const bool median = r.run_type == Run::RT_Aggregate && r.aggregate_name == "median";
+            const bool single = r.run_type == Run::RT_Iteration && r.repetitions <= 1;
+            if (!median && !single) continue;
+            ns[r.run_name.str()] = r.GetAdjustedCPUTime() *
+                                   benchmark::GetTimeUnitMultiplier(benchmark::kNanosecond) /
+                                   benchmark::GetTimeUnitMultiplier(r.time_unit);
         }
     }
 };
@@ -377,7 +381,8 @@ void write_plot(const std::vector<Result>& results, const std::string& path) {
 int cmd_bench(int argc, const char** argv) {
     OIIO::ArgParse ap;
     ap.intro("retroprism bench: the speed/accuracy trade table (Google Benchmark, this machine)")
-        .usage("retroprism bench [--json] [--plot OUT.png] [--min-time SECONDS] [--glsl]");
+        .usage("retroprism bench [--json] [--plot OUT.png] [--min-time SECONDS] [--repetitions N] "
+               "[--glsl]");
     ap.arg("--json").help("print the rows as JSON").store_true();
     ap.arg("--glsl")
         .help("also the GLSL variants' SPIR-V size and llvmpipe throughput")
@@ -387,6 +392,11 @@ int cmd_bench(int argc, const char** argv) {
         .dest("min_time")
         .help("minimum time per benchmark (default 0.2)")
         .defaultval("0.2");
+    ap.arg("--repetitions N")
+        .dest("repetitions")
+        .help("runs of each benchmark, interleaved at random; the table shows their median "
+              "(default 3, in [1, 20])")
+        .defaultval("3");
     int status = 0;
     if (!parse_command_args(ap, argc, argv, status)) return status;
     const std::string minTime = ap["min_time"].get<std::string>();
@@ -394,10 +404,19 @@ int cmd_bench(int argc, const char** argv) {
     const double mt = std::strtod(minTime.c_str(), &end);
     if (*end != '\0' || !(mt > 0 && mt <= 60))
         throw InputError("--min-time " + minTime + ": expected seconds in (0, 60]");
+    const std::string repText = ap["repetitions"].get<std::string>();
+    const long reps = std::strtol(repText.c_str(), &end, 10);
+    if (repText.empty() || *end != '\0' || reps < 1 || reps > 20)
+        throw InputError("--repetitions " + repText + ": expected a whole number in [1, 20]");
 
     const std::vector<bench::Row>& rows = bench::rows();
     std::string flag = "--benchmark_min_time=" + minTime;
-    std::vector<char*> bargs = {const_cast<char*>("retroprism"), flag.data()};
+    // Repetitions interleaved at random over all benchmarks, so that a slow spell of the
+    // machine spreads over the rows instead of landing on one.
+    std::string repFlag = "--benchmark_repetitions=" + std::to_string(reps);
+    std::string interleave = "--benchmark_enable_random_interleaving=true";
+    std::vector<char*> bargs = {const_cast<char*>("retroprism"), flag.data(), repFlag.data(),
+                                interleave.data()};
     int bargc = int(bargs.size());
     benchmark::Initialize(&bargc, bargs.data());
     Collector collector;

@@ -251,6 +251,11 @@ TEST_CASE("bench --json prints the trade table's rows", "[cli]") {
     CHECK(sawMrm);
     CHECK(sawFast);
     CHECK(run("bench --min-time 100").status != 0);
+    for (const char* reps : {"0", "21", "2.5", "x"}) {
+        const Run bad = run(std::string("bench --repetitions ") + reps);
+        CHECK(bad.status != 0);
+        CHECK(contains(bad.output, "expected a whole number in [1, 20]"));
+    }
 }
 
 TEST_CASE("export --max-error picks the cheapest variant that fits the document", "[cli]") {
