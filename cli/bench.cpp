@@ -220,7 +220,7 @@ void simulator_errors(const bench::Row& row, const std::vector<SimConfig>& study
             for (int b = 0; b < g; ++b) {
                 const glm::dvec3 wo = Core::lobe_sample(
                     ref.core_material(), s, wi, f64::RP_LOBE_RETRO, (a + 0.5) / g, (b + 0.5) / g);
-                if (!(wo.z >= 1e-9)) continue;
+                if (!(wo.z >= f64::RP_MIN_COS)) continue;
                 const double pdf =
                     Core::lobe_pdf(ref.core_material(), s, wi, wo, f64::RP_LOBE_RETRO);
                 if (!(pdf > 0)) continue;

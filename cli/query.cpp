@@ -145,8 +145,7 @@ Params params_from_json(const json& j, const std::string& where) {
     return p;
 }
 
-json params_to_json(const Params& in) {
-    Params p = in; // input_field reads through a non-const Params
+json params_to_json(const Params& p) {
     json j = json::object();
     for (const ParamInfo& info : param_table()) {
         switch (info.type) {

@@ -72,6 +72,10 @@ const ParamInfo* find_param(const std::string& name);
 // for enums, bool, Color3 = Vec3d for colours and vectors); nullptr otherwise.
 template <class T>
 T* input_field(Params& p, const std::string& name);
+template <class T>
+const T* input_field(const Params& p, const std::string& name) {
+    return input_field<T>(const_cast<Params&>(p), name);
+}
 // The enum's values as a list, and the index of `value` in it (-1 when absent).
 std::vector<std::string> enum_values(const ParamInfo& info);
 int enum_index(const ParamInfo& info, const std::string& value);

@@ -4602,31 +4602,36 @@ vec3 rp_lobe_sample(in rp_material m, in rp_incident s, vec3 wi, int lobe, float
 
 // ---- Entry points (local frame) ---------------------------------------------------------
 
-// f and pdf at (wi, wo); returns false (everything 0) when either is below the horizon.
-bool rp_eval(in rp_material m, vec3 wi, vec3 wo, out rp_lobes r, out float pdf) {
+// f at (wi, wo) and, when wantPdf (callers pass a constant), the sampling pdf (0 otherwise);
+// returns false (everything 0) when either direction is below the horizon. Without the pdf the
+// incident state leaves out the mixture weights.
+bool rp_eval_impl(in rp_material m, vec3 wi, vec3 wo, bool wantPdf,
+                            out rp_lobes r, out float pdf) {
     r.surface = vec3(float(0.0));
     r.retro = vec3(float(0.0));
     r.diffuse = vec3(float(0.0));
     pdf = float(0.0);
     if (!(wi.z >= RP_MIN_COS && wo.z >= RP_MIN_COS) || !(m.weight > float(0.0))) return false;
     rp_incident s;
-    rp_incident_setup(m, wi, s);
-    rp_eval_lobes_pdf(m, s, wi, wo, true, r, pdf);
+    if (wantPdf) {
+        rp_incident_setup(m, wi, s);
+    } else {
+        rp_incident_lobes(m, wi, s);
+    }
+    rp_eval_lobes_pdf(m, s, wi, wo, wantPdf, r, pdf);
     return true;
+}
+
+// f and pdf at (wi, wo); returns false (everything 0) when either is below the horizon.
+bool rp_eval(in rp_material m, vec3 wi, vec3 wo, out rp_lobes r, out float pdf) {
+    return rp_eval_impl(m, wi, wo, true, r, pdf);
 }
 
 // f alone at (wi, wo), as rp_eval without the pdf (no mixture weights): what a light loop that
 // does not weight by the sampling pdf needs.
 bool rp_eval_f(in rp_material m, vec3 wi, vec3 wo, out rp_lobes r) {
-    r.surface = vec3(float(0.0));
-    r.retro = vec3(float(0.0));
-    r.diffuse = vec3(float(0.0));
-    if (!(wi.z >= RP_MIN_COS && wo.z >= RP_MIN_COS) || !(m.weight > float(0.0))) return false;
-    rp_incident s;
-    rp_incident_lobes(m, wi, s);
     float pdf;
-    rp_eval_lobes_pdf(m, s, wi, wo, false, r, pdf);
-    return true;
+    return rp_eval_impl(m, wi, wo, false, r, pdf);
 }
 
 // One-sample mixture: u.z picks the lobe, (u.x, u.y) sample its direction. Returns false
