@@ -14,6 +14,7 @@
 #include "embedded_files.h"
 #include "glsl_gen.h"
 #include "mtlx_reader.h"
+#include "backend.h"
 #include "query.h"
 
 namespace retroprism {

@@ -11,6 +11,8 @@
 
 #include "check.h"
 #include "commands.h"
+#include "parse.h"
+#include "backend.h"
 #include "query.h"
 #include "stress.h"
 
@@ -44,14 +46,6 @@ const char* kUsage =
     "  bench [--json] [--plot OUT.png]     the speed/accuracy trade table\n"
     "\n"
     "`retroprism COMMAND --help` describes a command.\n";
-
-double parse_number(const std::string& text, const std::string& option) {
-    char* end = nullptr;
-    double v = std::strtod(text.c_str(), &end);
-    if (text.empty() || *end != '\0' || !std::isfinite(v))
-        throw InputError(option + " " + text + ": expected a finite number");
-    return v;
-}
 
 } // namespace
 

@@ -17,40 +17,6 @@
 
 namespace retroprism {
 
-void print_ra_table(const RaTable& t, const std::string& material, bool rgb, std::FILE* out) {
-    std::fprintf(out,
-                 "R_A [cd lx^-1 m^-2] of %s, rotation epsilon = %g deg (coplanar geometry; rows: "
-                 "observation angle alpha, columns: entrance angle beta)\n",
-                 material.c_str(), t.rotation);
-    const char* names[4] = {"Y (Rec.709 luminance)", "R", "G", "B"};
-    for (int part = 0; part < (rgb ? 4 : 1); ++part) {
-        if (rgb) std::fprintf(out, "%s\n", names[part]);
-        std::fprintf(out, "%14s", "alpha \\ beta");
-        for (double b : t.entrance)
-            std::fprintf(out, " %9g", b);
-        std::fprintf(out, "\n");
-        for (size_t r = 0; r < t.observation.size(); ++r) {
-            std::fprintf(out, "%14g", t.observation[r]);
-            for (size_t c = 0; c < t.entrance.size(); ++c) {
-                const glm::dvec3& v = t.rgb[r][c];
-                const double x = part == 0 ? luminance_709(v) : v[part - 1];
-                std::fprintf(out, " %9.2f", x);
-            }
-            std::fprintf(out, "\n");
-        }
-    }
-}
-
-void print_ra_csv(const RaTable& t, std::FILE* out) {
-    std::fprintf(out, "observation_deg,entrance_deg,rotation_deg,R_A_Y,R_A_R,R_A_G,R_A_B\n");
-    for (size_t r = 0; r < t.observation.size(); ++r)
-        for (size_t c = 0; c < t.entrance.size(); ++c) {
-            const glm::dvec3& v = t.rgb[r][c];
-            std::fprintf(out, "%g,%g,%g,%.9g,%.9g,%.9g,%.9g\n", t.observation[r], t.entrance[c],
-                         t.rotation, luminance_709(v), v.x, v.y, v.z);
-        }
-}
-
 int cmd_ra(int argc, const char** argv) {
     OIIO::ArgParse ap;
     ap.intro("retroprism ra: coefficient of retroreflection R_A = f cos(theta_i) cos(theta_o) "

@@ -35,6 +35,7 @@
 #include "alta_reader.h"
 #include "mtlx_reader.h"
 #include "prismatic_retroreflector.h"
+#include "backend.h"
 #include "query.h"
 
 namespace rpfuzz {

@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "backend.h"
 #include "query.h"
 #include "test_support.h"
 

@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "../cli/stress.cpp"
+#include "../backends/stress.cpp"
 #include "../fuzz/fuzz_checks.h"
 #include "test_support.h"
 

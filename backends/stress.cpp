@@ -53,6 +53,7 @@
 #include <thread>
 #include <vector>
 
+#include "backend.h"
 #include "query.h"
 
 namespace retroprism {

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "query.h"
+#include "backend.h"
 
 namespace retroprism {
 

@@ -1,8 +1,5 @@
 #include "query.h"
 
-#include "gl_runner.h"
-#include "mx_runner.h"
-
 #include <cmath>
 #include <fstream>
 #include <iostream>
@@ -251,84 +248,6 @@ std::string params_markdown() {
                i.doc + " |\n";
     }
     return out;
-}
-
-std::vector<std::string> backend_names() {
-    return {"cpp-double", "cpp-float", "glsl", "materialx"};
-}
-
-namespace {
-
-template <class Real>
-json answer_cpp(const Query& q, const std::string& name) {
-    using Node = PrismaticRetroreflector<Real>;
-    using vec3 = typename Node::vec3;
-    Node node(q.material);
-    json results = json::array();
-    auto rgb = [](const vec3& v) { return json::array({double(v.x), double(v.y), double(v.z)}); };
-    for (const DirectionPair& s : q.samples) {
-        vec3 wi(Real(s.wi[0]), Real(s.wi[1]), Real(s.wi[2]));
-        vec3 wo(Real(s.wo[0]), Real(s.wo[1]), Real(s.wo[2]));
-        typename Node::Eval e = node.eval(wi, wo);
-        results.push_back({{"f", rgb(e.f.total())},
-                           {"surface", rgb(e.f.surface)},
-                           {"retro", rgb(e.f.retro)},
-                           {"diffuse", rgb(e.f.diffuse)},
-                           {"pdf", double(e.pdf)}});
-    }
-    return {{"backend", name}, {"results", results}};
-}
-
-} // namespace
-
-json results_json(const std::vector<gl::Result>& res) {
-    json results = json::array();
-    auto rgb = [](const std::array<float, 3>& v) {
-        return json::array({double(v[0]), double(v[1]), double(v[2])});
-    };
-    for (const gl::Result& r : res) {
-        std::array<float, 3> f = {r.surface[0] + r.retro[0] + r.diffuse[0],
-                                  r.surface[1] + r.retro[1] + r.diffuse[1],
-                                  r.surface[2] + r.retro[2] + r.diffuse[2]};
-        results.push_back({{"f", rgb(f)},
-                           {"surface", rgb(r.surface)},
-                           {"retro", rgb(r.retro)},
-                           {"diffuse", rgb(r.diffuse)},
-                           {"pdf", std::isnan(r.pdf) ? json(nullptr) : json(double(r.pdf))}});
-    }
-    return results;
-}
-
-json answer_glsl(const Query& q) {
-    // One context and compiled program per process (compiling takes llvmpipe a while).
-    static gl::Runner runner(gl::embedded_library());
-    std::vector<std::array<Vec3d, 2>> pairs;
-    pairs.reserve(q.samples.size());
-    for (const DirectionPair& s : q.samples)
-        pairs.push_back({s.wi, s.wo});
-    return {{"backend", "glsl"}, {"results", results_json(runner.evaluate(q.material, pairs))}};
-}
-
-json answer_materialx(const Query& q) {
-    // One MaterialX shader per process; each query's material is set through its uniforms.
-    static gl::MaterialXRunner runner(RP_SOURCE_DIR);
-    std::vector<std::array<Vec3d, 2>> pairs;
-    pairs.reserve(q.samples.size());
-    for (const DirectionPair& s : q.samples)
-        pairs.push_back({s.wi, s.wo});
-    return {{"backend", "materialx"},
-            {"results", results_json(runner.evaluate(q.material, pairs))}};
-}
-
-json answer_query(const Query& q, const std::string& backend) {
-    if (backend == "cpp-double") return answer_cpp<double>(q, backend);
-    if (backend == "cpp-float") return answer_cpp<float>(q, backend);
-    if (backend == "glsl") return answer_glsl(q);
-    if (backend == "materialx") return answer_materialx(q);
-    std::string names;
-    for (const std::string& n : backend_names())
-        names += (names.empty() ? "" : ", ") + n;
-    throw InputError("--backend " + backend + ": unknown backend (backends: " + names + ")");
 }
 
 } // namespace retroprism

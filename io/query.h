@@ -1,23 +1,17 @@
-// query.h: the JSON interface every backend answers (`retroprism eval`), and the material
-// reader shared by the commands. Inputs are named and ranged by the node's parameter table.
+// query.h: the JSON queries every backend answers (`retroprism eval`) and the JSON material
+// reader. Inputs are named and ranged by the node's parameter table.
 #pragma once
 
-#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "error.h"
 #include "prismatic_retroreflector.h"
 
 namespace retroprism {
-
-// A user input error; the message names the source (file), the field and what was expected.
-class InputError : public std::runtime_error {
-  public:
-    using std::runtime_error::runtime_error;
-};
 
 // Reads a JSON document from a file, or from standard input when path is "-".
 nlohmann::json read_json(const std::string& path);
@@ -46,10 +40,5 @@ Query parse_query(const nlohmann::json& j, const std::string& source);
 // The parameter table as Markdown (name, type, default, range or values, description): the
 // README's table is this text.
 std::string params_markdown();
-
-// The backends that answer queries, and one answer:
-// {"backend": name, "results": [{"f", "surface", "retro", "diffuse", "pdf"}, ...]}.
-std::vector<std::string> backend_names();
-nlohmann::json answer_query(const Query& q, const std::string& backend);
 
 } // namespace retroprism

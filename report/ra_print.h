@@ -1,4 +1,4 @@
-// ra_print.h: printing an R_A table (cli/ra.cpp), shared by `retroprism ra` and `render`.
+// ra_print.h: an R_A table as text or CSV (`retroprism ra`, `render`).
 #pragma once
 
 #include <cstdio>

@@ -1,0 +1,152 @@
+#include "backend.h"
+
+#include <cmath>
+#include <functional>
+#include <map>
+#include <mutex>
+
+#include "gl_runner.h"
+#include "mx_runner.h"
+#include "paths.h"
+
+namespace retroprism {
+
+using nlohmann::json;
+
+namespace {
+
+template <class Real>
+class CppBackend final : public Backend {
+  public:
+    explicit CppBackend(std::string name) : name_(std::move(name)) {}
+    std::string name() const override { return name_; }
+    std::vector<BackendResult> evaluate(const Params& p,
+                                        const std::vector<DirectionPair>& pairs) override {
+        using Node = PrismaticRetroreflector<Real>;
+        using vec3 = typename Node::vec3;
+        const Node node(p);
+        auto rgb = [](const vec3& v) {
+            return std::array<double, 3>{double(v.x), double(v.y), double(v.z)};
+        };
+        std::vector<BackendResult> out;
+        out.reserve(pairs.size());
+        for (const DirectionPair& s : pairs) {
+            const vec3 wi(Real(s.wi[0]), Real(s.wi[1]), Real(s.wi[2]));
+            const vec3 wo(Real(s.wo[0]), Real(s.wo[1]), Real(s.wo[2]));
+            const typename Node::Eval e = node.eval(wi, wo);
+            out.push_back({rgb(e.f.total()), rgb(e.f.surface), rgb(e.f.retro), rgb(e.f.diffuse),
+                           double(e.pdf)});
+        }
+        return out;
+    }
+
+  private:
+    std::string name_;
+};
+
+std::vector<std::array<Vec3d, 2>> gl_pairs(const std::vector<DirectionPair>& pairs) {
+    std::vector<std::array<Vec3d, 2>> out;
+    out.reserve(pairs.size());
+    for (const DirectionPair& s : pairs)
+        out.push_back({s.wi, s.wo});
+    return out;
+}
+
+std::vector<BackendResult> from_gl(const std::vector<gl::Result>& res) {
+    auto d = [](const std::array<float, 3>& v) {
+        return std::array<double, 3>{double(v[0]), double(v[1]), double(v[2])};
+    };
+    std::vector<BackendResult> out;
+    out.reserve(res.size());
+    for (const gl::Result& r : res) {
+        const std::array<float, 3> f = {r.surface[0] + r.retro[0] + r.diffuse[0],
+                                        r.surface[1] + r.retro[1] + r.diffuse[1],
+                                        r.surface[2] + r.retro[2] + r.diffuse[2]};
+        out.push_back({d(f), d(r.surface), d(r.retro), d(r.diffuse), double(r.pdf)});
+    }
+    return out;
+}
+
+// The generated full-runtime library on OpenGL: one context and program per process
+// (compiling takes llvmpipe a while).
+class GlslBackend final : public Backend {
+  public:
+    GlslBackend() : runner_(gl::embedded_library()) {}
+    std::string name() const override { return "glsl"; }
+    std::vector<BackendResult> evaluate(const Params& p,
+                                        const std::vector<DirectionPair>& pairs) override {
+        return from_gl(runner_.evaluate(p, gl_pairs(pairs)));
+    }
+
+  private:
+    gl::Runner runner_;
+};
+
+// One MaterialX shader per process; each material is set through its uniforms.
+class MaterialXBackend final : public Backend {
+  public:
+    MaterialXBackend() : runner_(data_dir()) {}
+    std::string name() const override { return "materialx"; }
+    std::vector<BackendResult> evaluate(const Params& p,
+                                        const std::vector<DirectionPair>& pairs) override {
+        return from_gl(runner_.evaluate(p, gl_pairs(pairs)));
+    }
+
+  private:
+    gl::MaterialXRunner runner_;
+};
+
+using Factory = std::function<std::unique_ptr<Backend>()>;
+
+const std::vector<std::pair<std::string, Factory>>& registry() {
+    static const std::vector<std::pair<std::string, Factory>> r = {
+        {"cpp-double", [] { return std::make_unique<CppBackend<double>>("cpp-double"); }},
+        {"cpp-float", [] { return std::make_unique<CppBackend<float>>("cpp-float"); }},
+        {"glsl", [] { return std::make_unique<GlslBackend>(); }},
+        {"materialx", [] { return std::make_unique<MaterialXBackend>(); }},
+    };
+    return r;
+}
+
+json rgb_json(const std::array<double, 3>& v) {
+    return json::array({v[0], v[1], v[2]});
+}
+
+} // namespace
+
+const std::vector<std::string>& backend_names() {
+    static const std::vector<std::string> names = [] {
+        std::vector<std::string> n;
+        for (const auto& [name, make] : registry())
+            n.push_back(name);
+        return n;
+    }();
+    return names;
+}
+
+Backend& backend(const std::string& name) {
+    static std::mutex mutex;
+    static std::map<std::string, std::unique_ptr<Backend>> made;
+    const std::lock_guard<std::mutex> lock(mutex);
+    if (auto it = made.find(name); it != made.end()) return *it->second;
+    for (const auto& [n, make] : registry())
+        if (n == name) return *(made[name] = make());
+    std::string names;
+    for (const std::string& n : backend_names())
+        names += (names.empty() ? "" : ", ") + n;
+    throw InputError("--backend " + name + ": unknown backend (backends: " + names + ")");
+}
+
+json answer_query(const Query& q, const std::string& name) {
+    json results = json::array();
+    for (const BackendResult& r : backend(name).evaluate(q.material, q.samples)) {
+        results.push_back({{"f", rgb_json(r.f)},
+                           {"surface", rgb_json(r.surface)},
+                           {"retro", rgb_json(r.retro)},
+                           {"diffuse", rgb_json(r.diffuse)},
+                           {"pdf", std::isnan(r.pdf) ? json(nullptr) : json(r.pdf)}});
+    }
+    return {{"backend", name}, {"results", results}};
+}
+
+} // namespace retroprism

@@ -1,0 +1,46 @@
+// backend.h: the backends that evaluate the node, behind one interface and found by name in
+// one registry: cpp-double (the reference), cpp-float, glsl (the generated library on OpenGL)
+// and materialx (the shader real MaterialX generates, on OpenGL).
+#pragma once
+
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "query.h"
+
+namespace retroprism {
+
+// The node's per-lobe BRDF (RGB, 1/sr, no cosine) and the sampling pdf at one direction pair.
+struct BackendResult {
+    std::array<double, 3> f{}; // the sum of the lobes, in the backend's own precision
+    std::array<double, 3> surface{};
+    std::array<double, 3> retro{};
+    std::array<double, 3> diffuse{};
+    double pdf = 0; // NaN: the backend has no pdf (a MaterialX shader has none)
+};
+
+class Backend {
+  public:
+    virtual ~Backend() = default;
+    virtual std::string name() const = 0;
+    // The node with material p at each direction pair.
+    virtual std::vector<BackendResult> evaluate(const Params& p,
+                                                const std::vector<DirectionPair>& pairs) = 0;
+};
+
+// The backends' names, the reference first.
+const std::vector<std::string>& backend_names();
+
+// The backend of that name, made on first use and kept for the process (a GL backend compiles
+// its program once); InputError naming the known backends for any other name.
+Backend& backend(const std::string& name);
+
+// The JSON answer of a query: {"backend": name, "results": [{"f", "surface", "retro",
+// "diffuse", "pdf"}, ...]}, pdf null where the backend has none.
+nlohmann::json answer_query(const Query& q, const std::string& backend);
+
+} // namespace retroprism

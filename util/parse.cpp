@@ -1,0 +1,52 @@
+#include "parse.h"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+#include "error.h"
+
+namespace retroprism {
+
+namespace {
+
+std::string number_text(double v) {
+    char buf[40];
+    std::snprintf(buf, sizeof buf, "%.6g", v);
+    return buf;
+}
+
+} // namespace
+
+std::optional<double> try_parse_number(const std::string& text) {
+    char* end = nullptr;
+    const double v = std::strtod(text.c_str(), &end);
+    if (text.empty() || *end != '\0' || !std::isfinite(v)) return std::nullopt;
+    return v;
+}
+
+double parse_number(const std::string& text, const std::string& what) {
+    const std::optional<double> v = try_parse_number(text);
+    if (!v) throw InputError(what + " " + text + ": expected a finite number");
+    return *v;
+}
+
+double parse_number_in(const std::string& text, const std::string& what, double lo, double hi) {
+    const double v = parse_number(text, what);
+    if (v < lo || v > hi)
+        throw InputError(what + " " + text + ": must be in [" + number_text(lo) + ", " +
+                         number_text(hi) + "]");
+    return v;
+}
+
+std::uint64_t parse_count(const std::string& text, const std::string& what, double lo, double hi) {
+    const std::optional<double> v = try_parse_number(text);
+    if (!v || *v != std::floor(*v) || *v < lo || *v > hi) {
+        char range[96];
+        std::snprintf(range, sizeof range, "[%.0f, %.0f]", lo, hi);
+        throw InputError(what + " " + text + ": expected a whole number in " + range);
+    }
+    return std::uint64_t(*v);
+}
+
+} // namespace retroprism

@@ -1,0 +1,26 @@
+// parse.h: the one number parser of the project. Every number a user types (options, CSV and
+// table cells) is read here, so every such error reads the same way.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace retroprism {
+
+// The whole of `text` as a finite double, or nothing (empty text, trailing characters,
+// overflow to infinity, NaN).
+std::optional<double> try_parse_number(const std::string& text);
+
+// The whole of `text` as a finite double; otherwise an InputError "<what> <text>: expected a
+// finite number".
+double parse_number(const std::string& text, const std::string& what);
+
+// As parse_number, and within [lo, hi]; otherwise an InputError naming the range.
+double parse_number_in(const std::string& text, const std::string& what, double lo, double hi);
+
+// A whole number within [lo, hi] (written as an integer or in exponent form, 4e6); otherwise
+// an InputError "<what> <text>: expected a whole number in [lo, hi]".
+std::uint64_t parse_count(const std::string& text, const std::string& what, double lo, double hi);
+
+} // namespace retroprism
