@@ -1,0 +1,47 @@
+// rng.h: the project's random numbers. xoshiro256** (Blackman & Vigna 2018) seeded through
+// splitmix64 from (seed, stream): the same stream on every platform and compiler (unlike
+// std::uniform_real_distribution), and independent streams for independent chunks of work, so
+// results depend on the seed alone, never on the thread count.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+namespace retroprism {
+
+// splitmix64 (Steele, Lea & Flood 2014): advances x and returns the next output.
+inline std::uint64_t splitmix64(std::uint64_t& x) {
+    std::uint64_t z = (x += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+}
+
+class Rng {
+  public:
+    explicit Rng(std::uint64_t seed, std::uint64_t stream = 0) {
+        std::uint64_t x = seed ^ (0xD1B54A32D192ED03ull * (stream + 1));
+        for (std::uint64_t& s : s_)
+            s = splitmix64(x);
+    }
+    std::uint64_t next() {
+        const std::uint64_t result = rotl(s_[1] * 5, 7) * 9;
+        const std::uint64_t t = s_[1] << 17;
+        s_[2] ^= s_[0];
+        s_[3] ^= s_[1];
+        s_[1] ^= s_[2];
+        s_[0] ^= s_[3];
+        s_[2] ^= t;
+        s_[3] = rotl(s_[3], 45);
+        return result;
+    }
+    double uniform() { return double(next() >> 11) * 0x1.0p-53; }              // [0, 1)
+    double uniform_open() { return (double(next() >> 11) + 0.5) * 0x1.0p-53; } // (0, 1)
+    std::size_t index(std::size_t n) { return std::size_t(next() % n); }       // [0, n)
+
+  private:
+    static std::uint64_t rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
+    std::uint64_t s_[4];
+};
+
+} // namespace retroprism
