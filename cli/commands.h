@@ -2,13 +2,9 @@
 // arguments after its name (argv[0] is the subcommand) and returns the exit status.
 #pragma once
 
-#include <OpenImageIO/argparse.h>
+#include "args.h"
 
 namespace retroprism {
-
-// Parses a subcommand's options (argv[0] is the subcommand); returns false, with the exit
-// status in `status`, when it printed help (0) or an error (2).
-bool parse_command_args(OIIO::ArgParse& ap, int argc, const char** argv, int& status);
 
 int cmd_eval(int argc, const char** argv);
 int cmd_era(int argc, const char** argv);

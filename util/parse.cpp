@@ -12,7 +12,7 @@ namespace {
 
 std::string number_text(double v) {
     char buf[40];
-    std::snprintf(buf, sizeof buf, "%.6g", v);
+    std::snprintf(buf, sizeof buf, "%g", v);
     return buf;
 }
 
@@ -32,11 +32,11 @@ double parse_number(const std::string& text, const std::string& what) {
 }
 
 double parse_number_in(const std::string& text, const std::string& what, double lo, double hi) {
-    const double v = parse_number(text, what);
-    if (v < lo || v > hi)
-        throw InputError(what + " " + text + ": must be in [" + number_text(lo) + ", " +
+    const std::optional<double> v = try_parse_number(text);
+    if (!v || *v < lo || *v > hi)
+        throw InputError(what + " " + text + ": expected a number in [" + number_text(lo) + ", " +
                          number_text(hi) + "]");
-    return v;
+    return *v;
 }
 
 std::uint64_t parse_count(const std::string& text, const std::string& what, double lo, double hi) {

@@ -16,7 +16,8 @@ std::optional<double> try_parse_number(const std::string& text);
 // finite number".
 double parse_number(const std::string& text, const std::string& what);
 
-// As parse_number, and within [lo, hi]; otherwise an InputError naming the range.
+// The whole of `text` as a number within [lo, hi]; otherwise an InputError "<what> <text>:
+// expected a number in [lo, hi]".
 double parse_number_in(const std::string& text, const std::string& what, double lo, double hi);
 
 // A whole number within [lo, hi] (written as an integer or in exponent form, 4e6); otherwise

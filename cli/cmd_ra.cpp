@@ -1,4 +1,4 @@
-// ra.cpp: `retroprism ra`, the coefficient of retroreflection R_A of a material as traffic
+// cmd_ra.cpp: `retroprism ra`, the coefficient of retroreflection R_A of a material as traffic
 // standards tabulate it (ASTM E808 / E810, CIE 54.2; ASTM D4956 sheeting specifications):
 // observation angles 0.2, 0.33, 0.5, 1.0, 1.5 degrees x entrance angles -4, 15, 30, 40, 45
 // degrees at one rotation angle epsilon. R_A = f cos(theta_i) cos(theta_o) in cd lx^-1 m^-2
@@ -11,6 +11,7 @@
 
 #include "color.h"
 #include "commands.h"
+#include "parse.h"
 #include "photometry.h"
 #include "query.h"
 #include "ra_print.h"
@@ -36,12 +37,8 @@ int cmd_ra(int argc, const char** argv) {
         .defaultval("0");
     ap.arg("--csv").help("CSV on standard output (Y and R, G, B per row)").store_true();
     ap.arg("--rgb").help("text: also the R, G and B tables").store_true();
-    ap.exit_on_error(false);
-    if (ap.parse_args(argc, argv) < 0) {
-        std::fprintf(stderr, "retroprism ra: %s\n", ap.geterror().c_str());
-        return 2;
-    }
-    if (ap.aborted() || ap["help"].get<int>()) return 0;
+    int status = 0;
+    if (!parse_command_args(ap, argc, argv, status)) return status;
 
     const std::string json = ap["material"].get<std::string>();
     const std::string doc = ap["document"].get<std::string>();
@@ -49,11 +46,7 @@ int cmd_ra(int argc, const char** argv) {
     if (!json.empty() && !doc.empty())
         throw InputError("give either --material FILE.json or --document DOC.mtlx, not both");
     if (!name.empty() && doc.empty()) throw InputError("--name selects a material of --document");
-    const std::string rotText = ap["rotation"].get<std::string>();
-    char* end = nullptr;
-    const double rotation = std::strtod(rotText.c_str(), &end);
-    if (rotText.empty() || *end != '\0' || !std::isfinite(rotation))
-        throw InputError("--rotation " + rotText + ": expected a finite number of degrees");
+    const double rotation = parse_number(ap["rotation"].get<std::string>(), "--rotation");
 
     Params p;
     std::string label = "the default material";
