@@ -15,30 +15,28 @@ std::string egl_error_name(EGLint e) {
     return buf;
 }
 
+const char* glsl_type(ParamType type) {
+    switch (type) {
+    case ParamType::Float:
+        return "float";
+    case ParamType::Color:
+    case ParamType::Vector:
+        return "vec3";
+    case ParamType::Enum:
+        return "int";
+    case ParamType::Bool:
+        return "bool";
+    }
+    return "float";
+}
+
 // The compute shader around the library: pairs in, 10 floats per pair out.
 std::string compute_source(const std::string& library) {
     std::string uniforms, args;
-#define RP_FLOAT(name, def, lo, hi, doc)                                                           \
-    uniforms += "uniform float u_" #name ";\n";                                                    \
-    args += "u_" #name ", ";
-#define RP_COLOR(name, r, g, b, doc)                                                               \
-    uniforms += "uniform vec3 u_" #name ";\n";                                                     \
-    args += "u_" #name ", ";
-#define RP_ENUM(name, def, values, doc)                                                            \
-    uniforms += "uniform int u_" #name ";\n";                                                      \
-    args += "u_" #name ", ";
-#define RP_VECTOR(name, x, y, z, geomprop, doc)                                                    \
-    uniforms += "uniform vec3 u_" #name ";\n";                                                     \
-    args += "u_" #name ", ";
-#define RP_BOOL(name, def, doc)                                                                    \
-    uniforms += "uniform bool u_" #name ";\n";                                                     \
-    args += "u_" #name ", ";
-#include "prismatic_retroreflector_params.def"
-#undef RP_FLOAT
-#undef RP_COLOR
-#undef RP_ENUM
-#undef RP_VECTOR
-#undef RP_BOOL
+    for (const ParamInfo& info : param_table()) {
+        uniforms += "uniform " + std::string(glsl_type(info.type)) + " u_" + info.name + ";\n";
+        args += "u_" + std::string(info.name) + ", ";
+    }
     return "#version 430\n"
            "layout(local_size_x = 64) in;\n" +
            library +
@@ -64,6 +62,26 @@ std::string compute_source(const std::string& library) {
 }
 
 } // namespace
+
+void set_input_uniform(int location, const Params& p, const ParamInfo& info) {
+    switch (info.type) {
+    case ParamType::Float:
+        glUniform1f(location, float(*input_field<double>(p, info.name)));
+        break;
+    case ParamType::Color:
+    case ParamType::Vector: {
+        const Vec3d& v = *input_field<Vec3d>(p, info.name);
+        glUniform3f(location, float(v[0]), float(v[1]), float(v[2]));
+        break;
+    }
+    case ParamType::Enum:
+        glUniform1i(location, *input_field<int>(p, info.name));
+        break;
+    case ParamType::Bool:
+        glUniform1i(location, *input_field<bool>(p, info.name) ? 1 : 0);
+        break;
+    }
+}
 
 EglContext::EglContext() {
     if (!epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_MESA_platform_surfaceless"))
@@ -176,19 +194,8 @@ std::vector<Result> Runner::evaluate(const Params& p,
     context_.use();
     glUseProgram(program_);
     auto loc = [&](const char* name) { return glGetUniformLocation(program_, name); };
-#define RP_FLOAT(name, def, lo, hi, doc) glUniform1f(loc("u_" #name), float(p.name));
-#define RP_COLOR(name, r, gg, b, doc)                                                              \
-    glUniform3f(loc("u_" #name), float(p.name[0]), float(p.name[1]), float(p.name[2]));
-#define RP_ENUM(name, def, values, doc) glUniform1i(loc("u_" #name), p.name);
-#define RP_VECTOR(name, x, y, z, geomprop, doc)                                                    \
-    glUniform3f(loc("u_" #name), float(p.name[0]), float(p.name[1]), float(p.name[2]));
-#define RP_BOOL(name, def, doc) glUniform1i(loc("u_" #name), p.name ? 1 : 0);
-#include "prismatic_retroreflector_params.def"
-#undef RP_FLOAT
-#undef RP_COLOR
-#undef RP_ENUM
-#undef RP_VECTOR
-#undef RP_BOOL
+    for (const ParamInfo& info : param_table())
+        set_input_uniform(loc(("u_" + std::string(info.name)).c_str()), p, info);
     glUniform1i(loc("rp_count"), GLint(pairs.size()));
     std::vector<float> in(pairs.size() * 8);
     for (size_t i = 0; i < pairs.size(); ++i)

@@ -41,6 +41,11 @@ class EglContext {
 // Compiles and links a program from (type, source) stages; GlError with the compiler's log.
 unsigned build_program(const std::vector<std::pair<unsigned, std::string>>& stages);
 
+// Sets the uniform at `location` of the current program to the input `info` of p (float, vec3,
+// int or bool as the parameter table types it); location -1 (not in the program) is ignored, as
+// OpenGL ignores it.
+void set_input_uniform(int location, const Params& p, const ParamInfo& info);
+
 struct Result {
     std::array<float, 3> surface{};
     std::array<float, 3> retro{};

@@ -131,18 +131,9 @@ void MaterialXRunner::set_material(const Params& p) {
         // The node's uniforms in MaterialX's shader are "<node>_<input>".
         return glGetUniformLocation(program_, (node_ + "_" + input).c_str());
     };
-#define RP_FLOAT(name, def, lo, hi, doc) glUniform1f(loc(#name), float(p.name));
-#define RP_COLOR(name, r, g, b, doc)                                                               \
-    glUniform3f(loc(#name), float(p.name[0]), float(p.name[1]), float(p.name[2]));
-#define RP_ENUM(name, def, values, doc) glUniform1i(loc(#name), p.name);
-#define RP_VECTOR(name, x, y, z, geomprop, doc) // from the geometry: see the quad's attributes
-#define RP_BOOL(name, def, doc) glUniform1i(loc(#name), p.name ? 1 : 0);
-#include "prismatic_retroreflector_params.def"
-#undef RP_FLOAT
-#undef RP_COLOR
-#undef RP_ENUM
-#undef RP_VECTOR
-#undef RP_BOOL
+    for (const ParamInfo& info : param_table())
+        if (info.type != ParamType::Vector) // from the geometry: see the quad's attributes
+            set_input_uniform(loc(info.name), p, info);
     // No environment light: only the lights given contribute.
     glUniform1f(glGetUniformLocation(program_, "u_envLightIntensity"), 0.0f);
     bind_environment(program_, envTex_);

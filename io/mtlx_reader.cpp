@@ -476,18 +476,8 @@ Params to_working_space(const MtlxDocument& doc, const MtlxMaterial& m,
             }
             x = std::clamp(x, 0.0, 1.0);
         }
-#define RP_FLOAT(n, def, lo, hi, doc)
-#define RP_COLOR(n, cr, cg, cb, doc)                                                               \
-    if (c.input == #n) p.n = v;
-#define RP_ENUM(n, def, values, doc)
-#define RP_VECTOR(n, x, y, z, geomprop, doc)
-#define RP_BOOL(n, def, doc)
-#include "prismatic_retroreflector_params.def"
-#undef RP_FLOAT
-#undef RP_COLOR
-#undef RP_ENUM
-#undef RP_VECTOR
-#undef RP_BOOL
+        const ParamInfo* info = find_param(c.input);
+        if (info && info->type == ParamType::Color) *input_field<Color3>(p, c.input) = v;
     }
     return p;
 }

@@ -98,21 +98,29 @@ double clamp_or_default(double v, double lo, double hi, double def) {
 
 Params sanitize(const Params& in) {
     Params p = in;
-    const Params def;
-#define RP_FLOAT(name, d, lo, hi, doc) p.name = clamp_or_default(in.name, lo, hi, def.name);
-#define RP_COLOR(name, r, g, b, doc)                                                               \
-    for (int c = 0; c < 3; ++c)                                                                    \
-        p.name[c] = clamp_or_default(in.name[c], 0.0, 1.0, def.name[c]);
-#define RP_ENUM(name, d, values, doc)                                                              \
-    if (in.name < 0 || in.name >= int(enum_values(*find_param(#name)).size())) p.name = def.name;
-#define RP_VECTOR(name, x, y, z, geomprop, doc)
-#define RP_BOOL(name, def, doc)
-#include "prismatic_retroreflector_params.def"
-#undef RP_FLOAT
-#undef RP_COLOR
-#undef RP_ENUM
-#undef RP_VECTOR
-#undef RP_BOOL
+    for (const ParamInfo& info : param_table()) {
+        switch (info.type) {
+        case ParamType::Float: {
+            double& v = *input_field<double>(p, info.name);
+            v = clamp_or_default(v, info.min_value, info.max_value, info.default_value[0]);
+            break;
+        }
+        case ParamType::Color: {
+            Color3& v = *input_field<Color3>(p, info.name);
+            for (size_t c = 0; c < 3; ++c)
+                v[c] = clamp_or_default(v[c], 0.0, 1.0, info.default_value[c]);
+            break;
+        }
+        case ParamType::Enum: {
+            int& v = *input_field<int>(p, info.name);
+            if (v < 0 || v >= int(enum_values(info).size())) v = int(info.default_value[0]);
+            break;
+        }
+        case ParamType::Vector: // the frame, below
+        case ParamType::Bool:
+            break;
+        }
+    }
     // The frame, as every backend makes it (rp_make_frame).
     f64::vec3 n, t, b;
     f64::rp_make_frame(f64::vec3(in.normal[0], in.normal[1], in.normal[2]),

@@ -198,36 +198,10 @@ TEST_CASE("Invalid parameters are clamped into their documented ranges", "[stabi
         // Each float parameter below, above and NaN.
         auto with = [&](double v) {
             Params p;
-#define RP_FLOAT(n, def, lo, hi, doc)                                                              \
-    if (std::string(info.name) == #n) p.n = v;
-#define RP_COLOR(n, r, g, b, doc)
-#define RP_ENUM(n, def, values, doc)
-#define RP_VECTOR(n, x, y, z, geomprop, doc)
-#define RP_BOOL(n, def, doc)
-#include "prismatic_retroreflector_params.def"
-#undef RP_FLOAT
-#undef RP_COLOR
-#undef RP_ENUM
-#undef RP_VECTOR
-#undef RP_BOOL
+            *input_field<double>(p, info.name) = v;
             return sanitize(p);
         };
-        auto get = [&](const Params& p) {
-            double v = kNaN;
-#define RP_FLOAT(n, def, lo, hi, doc)                                                              \
-    if (std::string(info.name) == #n) v = p.n;
-#define RP_COLOR(n, r, g, b, doc)
-#define RP_ENUM(n, def, values, doc)
-#define RP_VECTOR(n, x, y, z, geomprop, doc)
-#define RP_BOOL(n, def, doc)
-#include "prismatic_retroreflector_params.def"
-#undef RP_FLOAT
-#undef RP_COLOR
-#undef RP_ENUM
-#undef RP_VECTOR
-#undef RP_BOOL
-            return v;
-        };
+        auto get = [&](const Params& p) { return *input_field<double>(p, info.name); };
         CHECK(get(with(info.min_value - 10.0)) == info.min_value);
         CHECK(get(with(info.max_value + 10.0)) == info.max_value);
         CHECK(get(with(-kInf)) == info.min_value);
