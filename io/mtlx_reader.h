@@ -69,7 +69,7 @@ const MtlxMaterial& select_material(const MtlxDocument& doc, const std::string& 
 // srgb_displayp3, lin_adobergb, adobergb.
 const std::vector<std::string>& mtlx_colorspaces();
 
-// A colour from `colorspace` to lin_rec709 (cli/color.cpp does it with OpenColorIO).
+// A colour from `colorspace` to lin_rec709 (io/color.h does it with OpenColorIO).
 using ColorConverter = std::function<Color3(const std::string& colorspace, const Color3& c)>;
 
 // The material's parameters in the working space: each colour input not already in

@@ -1,6 +1,5 @@
-// plot.h: drawing helpers for the CLI's PNG plots (OpenImageIO ImageBufAlgo): the project's
-// dark palette, text that degrades to nothing without a font, thick and dashed lines.
-// (The same helpers as cli/demo.cpp's, factored out for `retroprism fit`.)
+// plot.h: drawing helpers for the project's PNG plots (OpenImageIO ImageBufAlgo): the dark
+// palette, text that degrades to nothing without a font, thick and dashed lines.
 #pragma once
 
 #include <array>

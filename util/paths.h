@@ -4,7 +4,7 @@
 //   1. $RETROPRISM_DATA_DIR, when set (it must hold the data, or it is an error);
 //   2. <exe>/../share/retroprism, the installed layout;
 //   3. the nearest folder above the executable that holds materialx/tools/mx.cjs (a build tree
-//      inside or beside the checkout: build/cli/retroprism finds the checkout).
+//      inside the checkout finds the checkout).
 #pragma once
 
 #include <string>
