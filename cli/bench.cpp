@@ -25,10 +25,13 @@
 #include "benchmarks.h"
 #include "check.h"
 #include "commands.h"
+#include "cost_error_plot.h"
 #include "gl_runner.h"
 #include "glsl_gen.h"
+#include "paths.h"
 #include "plot.h"
 #include "query.h"
+#include "study_results.h"
 
 namespace retroprism {
 
@@ -129,60 +132,12 @@ struct SimConfig {
     double modelPeak;          // the double reference's peak averaged over the same cells
 };
 
+// The study's configurations from its results file (sim/study_results.h).
 std::vector<SimConfig> read_study(const std::string& path) {
-    std::ifstream in(path);
-    if (!in) throw InputError(path + ": cannot open the accuracy study's results");
-    auto split = [](const std::string& line) {
-        std::vector<std::string> fields;
-        std::stringstream ss(line);
-        for (std::string c; std::getline(ss, c, ',');)
-            fields.push_back(c);
-        return fields;
-    };
-    std::string line;
-    std::getline(in, line);
-    const std::vector<std::string> head = split(line);
-    auto col = [&](const std::string& name) {
-        const auto it = std::find(head.begin(), head.end(), name);
-        if (it == head.end()) throw InputError(path + ":1: no column " + name);
-        return size_t(it - head.begin());
-    };
-    const size_t cTheta = col("theta_i_deg"), cRough = col("roughness"), cIor = col("ior"),
-                 cPrism = col("prism_reflection"), cPeak = col("sim_retro_peak"),
-                 cEnergy = col("sim_retro_energy"), cModel = col("iso_retro_peak");
-    const std::vector<std::string> prisms = enum_values(*find_param("prism_reflection"));
     std::vector<SimConfig> out;
-    int lineNo = 1;
-    while (std::getline(in, line)) {
-        ++lineNo;
-        if (line.empty()) continue;
-        const std::vector<std::string> f = split(line);
-        if (f.size() != head.size())
-            throw InputError(path + ":" + std::to_string(lineNo) + ": expected " +
-                             std::to_string(head.size()) + " fields, found " +
-                             std::to_string(f.size()));
-        auto num = [&](size_t c) {
-            char* end = nullptr;
-            const double v = std::strtod(f[c].c_str(), &end);
-            if (f[c].empty() || *end != '\0' || !std::isfinite(v))
-                throw InputError(path + ":" + std::to_string(lineNo) + ": " + head[c] +
-                                 " is not a number: '" + f[c] + "'");
-            return v;
-        };
-        SimConfig s;
-        s.thetaDeg = num(cTheta);
-        s.roughness = num(cRough);
-        s.ior = num(cIor);
-        const auto it = std::find(prisms.begin(), prisms.end(), f[cPrism]);
-        if (it == prisms.end())
-            throw InputError(path + ":" + std::to_string(lineNo) + ": unknown prism_reflection '" +
-                             f[cPrism] + "'");
-        s.prism = int(it - prisms.begin());
-        s.simPeak = num(cPeak);
-        s.simEnergy = num(cEnergy);
-        s.modelPeak = num(cModel);
-        out.push_back(s);
-    }
+    for (const sim::ConfigResult& r : sim::read_results_csv(path))
+        out.push_back({r.c.theta, r.c.alpha, r.c.eta, r.c.prism, r.sim.peak.value,
+                       r.sim.energy.value, r.v[0].peak});
     return out;
 }
 
@@ -283,95 +238,13 @@ void glsl_costs(const std::string& sourceDir, bool json) {
 }
 
 void write_plot(const std::vector<Result>& results, const std::string& path) {
-    using namespace plot;
-    namespace IBA = OIIO::ImageBufAlgo;
-    const int W = 1000, H = 640, left = 90, right = W - 40, top = 60, bottom = H - 80;
-    OIIO::ImageBuf img(OIIO::ImageSpec(W, H, 3, OIIO::TypeDesc::FLOAT));
-    IBA::fill(img, {kBackground[0], kBackground[1], kBackground[2]});
-    IBA::fill(img, {kPlotBackground[0], kPlotBackground[1], kPlotBackground[2]},
-              OIIO::ROI(left, right, top, bottom));
-    Text text("retroprism bench");
-    // x: log10 ns per eval; y: log10 relative L1 error (rows without one are left out).
-    std::vector<const Result*> pts;
-    for (const Result& r : results)
-        if (r.error > 0) pts.push_back(&r);
-    double x0 = 1, x1 = 4, y0 = -8, y1 = 0;
-    auto X = [&](double ns) {
-        return int(left + (std::log10(ns) - x0) / (x1 - x0) * (right - left));
-    };
-    auto Y = [&](double e) {
-        return int(bottom - (std::log10(e) - y0) / (y1 - y0) * (bottom - top));
-    };
-    for (int d = int(x0); d <= int(x1); ++d) {
-        IBA::render_line(img, X(std::pow(10.0, d)), top, X(std::pow(10.0, d)), bottom, kGrid);
-        text.draw(img, X(std::pow(10.0, d)), bottom + 22, fmt("%.0f ns", std::pow(10.0, d)), 15,
-                  kDimText, IBA::TextAlignX::Center);
+    std::vector<plot::CostErrorPoint> points;
+    double baseline = 0;
+    for (const Result& r : results) {
+        points.push_back({r.row->name, r.nsEval, r.error});
+        if (r.row->name == "mrm_ggx") baseline = r.nsEval;
     }
-    for (int d = int(y0); d <= int(y1); d += 2) {
-        IBA::render_line(img, left, Y(std::pow(10.0, d)), right, Y(std::pow(10.0, d)), kGrid);
-        text.draw(img, left - 8, Y(std::pow(10.0, d)) + 5, fmt("1e%.0f", d), 15, kDimText,
-                  IBA::TextAlignX::Right);
-    }
-    // The Pareto front: rows no other row beats in both cost and error.
-    std::vector<const Result*> front;
-    for (const Result* p : pts) {
-        bool dominated = false;
-        for (const Result* q : pts)
-            if (q != p && q->nsEval <= p->nsEval && q->error <= p->error &&
-                (q->nsEval < p->nsEval || q->error < p->error))
-                dominated = true;
-        if (!dominated) front.push_back(p);
-    }
-    std::sort(front.begin(), front.end(),
-              [](const Result* a, const Result* b) { return a->nsEval < b->nsEval; });
-    for (size_t i = 1; i < front.size(); ++i)
-        thick_line(img, X(front[i - 1]->nsEval), Y(front[i - 1]->error), X(front[i]->nsEval),
-                   Y(front[i]->error), kLobeColor[1], 2, OIIO::ROI(left, right, top, bottom));
-    // Labels stacked downwards where rows of nearly the same cost and error would overlap (a
-    // leader line joins a moved label to its point); 7 px per character at size 13.
-    struct Box {
-        int x0, y0, x1, y1;
-    };
-    std::vector<Box> placed;
-    std::vector<const Result*> byPos = pts;
-    std::sort(byPos.begin(), byPos.end(), [](const Result* a, const Result* b) {
-        return a->error != b->error ? a->error > b->error : a->nsEval < b->nsEval;
-    });
-    for (const Result* p : byPos) {
-        const bool onFront = std::find(front.begin(), front.end(), p) != front.end();
-        const int px = X(p->nsEval), py = Y(p->error);
-        dot(img, px, py, 5, onFront ? kLobeColor[1] : kLobeColor[0],
-            OIIO::ROI(left, right, top, bottom));
-        Box b{px + 8, py - 17, px + 8 + 7 * int(p->row->name.size()), py - 3};
-        auto overlaps = [&](const Box& a) {
-            for (const Box& q : placed)
-                if (a.x0 < q.x1 && q.x0 < a.x1 && a.y0 < q.y1 && q.y0 < a.y1) return true;
-            return false;
-        };
-        while (overlaps(b)) {
-            b.y0 += 15;
-            b.y1 += 15;
-        }
-        placed.push_back(b);
-        if (b.y1 != py - 3) IBA::render_line(img, px + 3, py + 3, b.x0 - 2, b.y1 - 5, kDimText);
-        text.draw(img, b.x0, b.y1 - 3, p->row->name, 13, kText);
-    }
-    for (const Result& r : results)
-        if (r.row->name == "mrm_ggx") {
-            IBA::render_line(img, X(r.nsEval), top, X(r.nsEval), bottom, kLobeColor[2]);
-            text.draw(img, X(r.nsEval) + 4, top + 16, "MaterialX retro GGX", 14, kLobeColor[2]);
-            // The targets of the trade: fast within 2x, exact within 6x.
-            for (double k : {2.0, 6.0}) {
-                dashed_vline(img, X(k * r.nsEval), top, bottom, kDimText);
-                text.draw(img, X(k * r.nsEval) + 4, bottom - 8, fmt("%.0fx", k), 13, kDimText);
-            }
-        }
-    text.draw(img, 30, 36,
-              "retroprism: ns per eval vs relative L1 error against the double reference "
-              "(Pareto front in orange)",
-              17, kText);
-    text.draw(img, (left + right) / 2, H - 24, "ns per evaluation (log)", 16, kDimText,
-              IBA::TextAlignX::Center);
+    const OIIO::ImageBuf img = plot::cost_error_figure(points, baseline);
     if (!img.write(path))
         throw InputError(path + ": cannot write the plot (" + img.geterror() + ")");
 }
@@ -422,8 +295,7 @@ int cmd_bench(int argc, const char** argv) {
     Collector collector;
     benchmark::RunSpecifiedBenchmarks(&collector);
 
-    const std::vector<SimConfig> study =
-        read_study(std::string(RP_SOURCE_DIR_CLI) + "/docs/accuracy/results.csv");
+    const std::vector<SimConfig> study = read_study(data_path("docs/accuracy/results.csv"));
     std::vector<Result> results;
     double mrm = 0;
     for (const bench::Row& r : rows) {

@@ -26,6 +26,8 @@
 
 #include "alta_reader.h"
 #include "commands.h"
+#include "figure.h"
+#include "fit_plot.h"
 #include "fitting.h"
 #include "plot.h"
 #include "query.h"
@@ -62,14 +64,7 @@ json mrm_json(const baselines::RetroreflectiveGGX& m) {
     return j;
 }
 
-// One in-plane slice of a theta_l group: measured samples (signed theta_v, value) and the two
-// fits on a dense grid.
-struct Slice {
-    double thetaDeg = 0;
-    std::vector<double> ms, mv;                              // measured: signed angle (deg), value
-    std::vector<double> s, node, mrm;                        // curves
-    double nodeRel = 0, nodeLog = 0, mrmRel = 0, mrmLog = 0; // the group's errors
-};
+using Slice = plot::FitSlice;
 
 std::vector<Slice> slices(const FitData& d, const NodeFit& nf, const MrmFit& mf,
                           const FitOptions& o) {
@@ -107,119 +102,6 @@ std::vector<Slice> slices(const FitData& d, const NodeFit& nf, const MrmFit& mf,
         out.push_back(std::move(sl));
     }
     return out;
-}
-
-OIIO::ImageBuf comparison_plot(const std::string& file, const std::vector<Slice>& sls,
-                               plot::Text& text) {
-    namespace IBA = OIIO::ImageBufAlgo;
-    using namespace plot;
-    const int panels = std::max<int>(1, int(sls.size()));
-    const int panelW = 600, W = 30 + panels * panelW, H = 700;
-    OIIO::ImageBuf img(OIIO::ImageSpec(W, H, 3, OIIO::TypeDesc::FLOAT));
-    IBA::fill(img, kBackground);
-    double lo = 1e300, hi = -1e300;
-    for (const Slice& sl : sls)
-        for (double v : sl.mv)
-            if (v > 0) {
-                lo = std::min(lo, std::log10(v));
-                hi = std::max(hi, std::log10(v));
-            }
-    if (!(hi >= lo)) lo = -3, hi = 1;
-    const double yMax = std::ceil(hi + 0.05), yMin = std::max(std::floor(lo), yMax - 7.0);
-    const Rgb measured = {0.92f, 0.92f, 0.95f};
-    const Rgb nodeColor = kLobeColor[1], mrmColor = kLobeColor[0];
-    text.draw(img, 30, 36,
-              "fit of " + fs::path(file).filename().string() +
-                  ": in-plane slices of BRDF x cos theta_v [1/sr], measured vs fitted",
-              24, kText);
-    for (int k = 0; k < int(sls.size()); ++k) {
-        const Slice& sl = sls[size_t(k)];
-        const int left = 30 + k * panelW + 60, right = left + panelW - 90, topY = 104, bottom = 536;
-        auto X = [&](double s) {
-            return int(std::lround(left + (s + 90.0) / 180.0 * (right - left)));
-        };
-        auto Y = [&](double ly) {
-            return int(std::lround(bottom - (ly - yMin) / (yMax - yMin) * (bottom - topY)));
-        };
-        const OIIO::ROI clip(left, right + 1, topY, bottom + 1);
-        IBA::render_box(img, left, topY, right, bottom, kPlotBackground, true);
-        for (int dd = int(yMin); dd <= int(yMax); ++dd) {
-            IBA::render_line(img, left, Y(dd), right, Y(dd), kGrid);
-            text.draw(img, left - 8, Y(dd), fmt(dd == 0 ? "%.0f" : "%+.0f", dd), 15, kDimText,
-                      IBA::TextAlignX::Right, IBA::TextAlignY::Center);
-        }
-        for (int a = -90; a <= 90; a += 30) {
-            IBA::render_line(img, X(a), topY, X(a), bottom, kGrid);
-            text.draw(img, X(a), bottom + 20, fmt("%.0f", a), 15, kDimText,
-                      IBA::TextAlignX::Center);
-        }
-        dashed_vline(img, X(sl.thetaDeg), topY, bottom, kLobeColor[1]);
-        dashed_vline(img, X(-sl.thetaDeg), topY, bottom, kLobeColor[0]);
-        text.draw(img, X(sl.thetaDeg) + 4, topY - 6, "retro", 14, kLobeColor[1]);
-        text.draw(img, X(-sl.thetaDeg) - 4, topY - 6, "mirror", 14, kLobeColor[0],
-                  IBA::TextAlignX::Right);
-        IBA::render_box(img, left, topY, right, bottom, kAxis);
-        text.draw(img, (left + right) / 2, topY - 30, fmt("theta_l = %.0f deg", sl.thetaDeg), 20,
-                  kText, IBA::TextAlignX::Center);
-        text.draw(img, (left + right) / 2, bottom + 44, "signed theta_v [deg]  (+: light's side)",
-                  15, kDimText, IBA::TextAlignX::Center);
-        // Curves (pulled to just below the axis when below it), then the measured samples.
-        for (int c = 0; c < 2; ++c) {
-            const std::vector<double>& v = c == 0 ? sl.mrm : sl.node;
-            const double floorY = yMin - 0.5;
-            int px = 0, py = 0;
-            bool have = false;
-            for (size_t i = 0; i < sl.s.size(); ++i) {
-                const double ly = v[i] > 0 ? std::max(std::log10(v[i]), floorY) : floorY;
-                const int x = X(sl.s[i]), y = Y(ly);
-                if (have && (x != px || y != py))
-                    thick_line(img, px, py, x, y, c == 0 ? mrmColor : nodeColor, 2, clip);
-                px = x;
-                py = y;
-                have = true;
-            }
-        }
-        for (size_t i = 0; i < sl.ms.size(); ++i)
-            if (sl.mv[i] > 0) dot(img, X(sl.ms[i]), Y(std::log10(sl.mv[i])), 2, measured, clip);
-        text.draw(img, left, bottom + 74,
-                  fmt("node: rel RMS %.3g", sl.nodeRel) + fmt(", log RMS %.3g", sl.nodeLog), 15,
-                  nodeColor);
-        text.draw(img, left, bottom + 96,
-                  fmt("mrm:  rel RMS %.3g", sl.mrmRel) + fmt(", log RMS %.3g", sl.mrmLog), 15,
-                  mrmColor);
-    }
-    int lx = 90;
-    const int ly = 666;
-    dot(img, lx + 18, ly, 3, measured, OIIO::ROI::All());
-    text.draw(img, lx + 44, ly, "measured (in-plane samples)", 16, kText, IBA::TextAlignX::Left,
-              IBA::TextAlignY::Center);
-    lx += 300;
-    thick_line(img, lx, ly, lx + 36, ly, nodeColor, 3, OIIO::ROI::All());
-    text.draw(img, lx + 44, ly, "node fit (prismatic retroreflector)", 16, kText,
-              IBA::TextAlignX::Left, IBA::TextAlignY::Center);
-    lx += 340;
-    thick_line(img, lx, ly, lx + 36, ly, mrmColor, 3, OIIO::ROI::All());
-    text.draw(img, lx + 44, ly, "mrm fit (MaterialX retroreflective GGX + Lambert)", 16, kText,
-              IBA::TextAlignX::Left, IBA::TextAlignY::Center);
-    return img;
-}
-
-void write_png(OIIO::ImageBuf& img, const fs::path& dst) {
-    const fs::path tmp =
-        dst.parent_path() / ("." + dst.filename().string() + ".tmp" + std::to_string(getpid()));
-    if (!img.write(tmp.string(), OIIO::TypeDesc::UINT8, "png")) {
-        const std::string err = img.geterror();
-        std::error_code ec;
-        fs::remove(tmp, ec);
-        throw InputError(dst.string() + ": cannot write (" + err + ")");
-    }
-    std::error_code ec;
-    fs::rename(tmp, dst, ec);
-    if (ec) {
-        std::error_code ignored;
-        fs::remove(tmp, ignored);
-        throw InputError(dst.string() + ": cannot write (" + ec.message() + ")");
-    }
 }
 
 double parse_option(const std::string& text, const std::string& option, double lo, double hi) {
@@ -340,8 +222,9 @@ int cmd_fit(int argc, const char** argv) {
 
     if (!plotPath.empty()) {
         plot::Text text("retroprism fit");
-        OIIO::ImageBuf img = comparison_plot(file, slices(d, nf, mf, o), text);
-        write_png(img, plotPath);
+        plot::write_png(
+            plot::fit_figure(fs::path(file).filename().string(), slices(d, nf, mf, o), text),
+            plotPath);
     }
     if (ap["json"].get<int>()) {
         json j = json::object();

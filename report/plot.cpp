@@ -16,7 +16,7 @@ void Text::draw(OIIO::ImageBuf& img, int x, int y, const std::string& s, int siz
 }
 
 std::string fmt(const char* f, double v) {
-    char buf[64];
+    char buf[512];
     std::snprintf(buf, sizeof buf, f, v);
     return buf;
 }

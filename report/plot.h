@@ -1,5 +1,6 @@
-// plot.h: drawing helpers for the project's PNG plots (OpenImageIO ImageBufAlgo): the dark
-// palette, text that degrades to nothing without a font, thick and dashed lines.
+// plot.h: the project's dark palette and the drawing primitives under the plot renderer
+// (figure.h), on OpenImageIO ImageBufAlgo: text that degrades to nothing without a font, thick
+// and dashed lines, dots.
 #pragma once
 
 #include <array>
@@ -21,6 +22,11 @@ inline const Rgb kDimText = {0.62f, 0.64f, 0.68f};
 // surface, retro, diffuse, total
 inline const Rgb kLobeColor[4] = {
     {0.30f, 0.72f, 1.0f}, {1.0f, 0.45f, 0.18f}, {0.40f, 0.88f, 0.35f}, {1.0f, 1.0f, 1.0f}};
+// Four series of one kind (the accuracy study's analytic variants): orange, blue, yellow, violet.
+inline const Rgb kSeriesColor[4] = {
+    {1.0f, 0.45f, 0.18f}, {0.30f, 0.72f, 1.0f}, {0.95f, 0.85f, 0.25f}, {0.85f, 0.4f, 0.95f}};
+inline const Rgb kTeal = {0.15f, 0.65f, 0.65f};
+inline const Rgb kRing = {0.45f, 0.45f, 0.5f}; // reference circles drawn over data
 inline const char* const kFont = "DejaVuSans";
 
 // Text drawing that degrades to nothing (with one note on stderr, naming `who`) when no font

@@ -34,7 +34,7 @@ if grep -rn 'cli/' $libraries; then
   echo "layout: a library names cli/ (libraries never depend on the command line)"
   status=1
 fi
-if git grep -n RP_SOURCE_DIR -- ':!tests/' ':!scripts/check-layout.sh'; then
+if git grep -n RP_SOURCE_DIR -- '*.cpp' '*.h' '*.inc' '*.in' '*CMakeLists.txt' ':!tests/'; then
   echo "layout: RP_SOURCE_DIR outside tests/ (run-time data is found by util/paths.h)"
   status=1
 fi

@@ -1,6 +1,8 @@
 // microgeometry.cpp: the microgeometry simulator (see microgeometry.h for what is simulated).
 #include "microgeometry.h"
 
+#include "parallel.h"
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -21,76 +23,12 @@ constexpr double kInvSqrt3 = 0.57735026918962576451;
 constexpr double kSin120 = 0.86602540378443864676;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-int thread_count(int requested) {
-    if (requested > 0) return requested;
-    const unsigned hc = std::thread::hardware_concurrency();
-    return hc > 0 ? int(hc) : 1;
-}
-
-// Runs body(i) for i in [0, n) on `threads` threads (dynamic scheduling).
-void parallel_for(int n, int threads, const std::function<void(int)>& body) {
-    threads = std::max(1, std::min(threads, n));
-    if (threads == 1) {
-        for (int i = 0; i < n; ++i)
-            body(i);
-        return;
-    }
-    std::atomic<int> next{0};
-    std::vector<std::thread> pool;
-    for (int t = 0; t < threads; ++t)
-        pool.emplace_back([&] {
-            for (int i = next++; i < n; i = next++)
-                body(i);
-        });
-    for (std::thread& th : pool)
-        th.join();
-}
-
-std::uint64_t splitmix64(std::uint64_t& x) {
-    std::uint64_t z = (x += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-}
-
-std::uint64_t rotl(std::uint64_t x, int k) {
-    return (x << k) | (x >> (64 - k));
-}
-
 // Angle between unit vectors, accurate near 0 and pi.
 double angle_between(const dvec3& a, const dvec3& b) {
     return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
 }
 
 } // namespace
-
-// ---- Random numbers ------------------------------------------------------------------------
-
-Rng::Rng(std::uint64_t seed, std::uint64_t stream) {
-    std::uint64_t x = seed ^ (0xD1B54A32D192ED03ull * (stream + 1));
-    for (std::uint64_t& s : s_)
-        s = splitmix64(x);
-}
-
-std::uint64_t Rng::next() {
-    const std::uint64_t result = rotl(s_[1] * 5, 7) * 9;
-    const std::uint64_t t = s_[1] << 17;
-    s_[2] ^= s_[0];
-    s_[3] ^= s_[1];
-    s_[1] ^= s_[2];
-    s_[0] ^= s_[3];
-    s_[2] ^= t;
-    s_[3] = rotl(s_[3], 45);
-    return result;
-}
-
-double Rng::uniform() {
-    return double(next() >> 11) * 0x1.0p-53;
-}
-
-double Rng::uniform_open() {
-    return (double(next() >> 11) + 0.5) * 0x1.0p-53;
-}
 
 // ---- Sheet ------------------------------------------------------------------------------------
 
@@ -757,7 +695,8 @@ CellIntegrals integrate_cells(const Grid& g, int k, const CellFunction& f,
     out.param_area.assign(size_t(n), 0.0);
     out.values.assign(size_t(n) * size_t(k), 0.0);
     const double dx = (g.x1 - g.x0) / g.nx, dy = (g.y1 - g.y0) / g.ny;
-    parallel_for(n, thread_count(threads), [&](int cell) {
+    parallel_for(size_t(n), threads, [&](size_t cellIndex) {
+        const int cell = int(cellIndex);
         const int i = cell % g.nx, j = cell / g.nx;
         const double cx0 = g.x0 + i * dx, cy0 = g.y0 + j * dy;
         // The cell's angular size: the widest angle from its centre to a corner or edge

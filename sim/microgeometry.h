@@ -73,6 +73,7 @@
 #include <vector>
 
 #include "prismatic_retroreflector.h"
+#include "rng.h"
 
 namespace retroprism {
 namespace sim {
@@ -103,17 +104,9 @@ constexpr std::uint64_t kChunkRays = 4096;
 
 // ---- Random numbers ------------------------------------------------------------------------
 
-// xoshiro256** seeded through splitmix64 from (seed, stream): one independent stream per chunk.
-class Rng {
-  public:
-    Rng(std::uint64_t seed, std::uint64_t stream);
-    std::uint64_t next();
-    double uniform();      // [0, 1), 53 bits
-    double uniform_open(); // (0, 1)
-
-  private:
-    std::uint64_t s_[4];
-};
+// util/rng.h: xoshiro256** seeded through splitmix64 from (seed, stream), one independent
+// stream per chunk.
+using Rng = retroprism::Rng;
 
 // ---- Building blocks (exposed for the tests) ----------------------------------------------
 
@@ -257,16 +250,18 @@ struct Tally {
 };
 
 struct RunOptions {
+    // Called with rays done, rays in all.
+    using Progress = std::function<void(std::uint64_t, std::uint64_t)>;
     std::uint64_t rays = 1000000;
     std::uint64_t seed = 1;
-    int threads = 0; // 0: std::thread::hardware_concurrency()
+    int threads = 0; // 0: one per core (util/parallel.h thread_count)
     // > 0: every ray arrives from its own direction, drawn over the cone of this half-angle
     // about wi with density proportional to cos(theta) (the projected solid angle): then the
     // tallies estimate integrals over pairs of regions, Q(A, B) / Omega_p(A), which reciprocity
     // makes exactly symmetric (the exact test of reciprocity, free of the cones' widths).
     double incidence_cone = 0;
     // Called on the calling thread about every 0.1 s: rays done, rays in all.
-    std::function<void(std::uint64_t, std::uint64_t)> progress;
+    Progress progress;
 };
 
 struct Run {

@@ -22,6 +22,7 @@
 #include <nlohmann/json.hpp>
 
 #include "microgeometry.h"
+#include "study.h"
 #include "test_support.h"
 
 using retroprism::Params;
@@ -70,10 +71,10 @@ using rptest::contains;
 using rptest::run_cli;
 
 // The accuracy study's comparison of the four analytic variants with the simulator at one
-// configuration (the definitions of docs/accuracy.md, as in cli/simulate.cpp run_config): the
-// retro-energy error (the variant's retro albedo / the simulated retro fraction - 1) and the
-// lobe-width errors along and across the plane of incidence (a Gaussian in slopes fitted to
-// the simulated retro lobe and, on the same cells with the same weights, to the variant's).
+// configuration (sim::run_config, the definitions of docs/accuracy.md): the retro-energy error
+// (the variant's retro albedo / the simulated retro fraction - 1) and the lobe-width errors along
+// and across the plane of incidence (a Gaussian in slopes fitted to the simulated retro lobe and,
+// on the same cells with the same weights, to the variant's).
 struct VariantComparison {
     double energy[4], along[4], across[4];
     double energySe, alongSe, acrossSe; // relative standard errors of the simulated values
@@ -82,62 +83,17 @@ struct VariantComparison {
 VariantComparison compare_variants(double thetaDeg, double alpha, double ior, int prism,
                                    std::uint64_t rays, std::uint64_t seed) {
     VariantComparison out{};
-    const dvec3 wi = dir_deg(thetaDeg, 0);
-    const Params base = sheet_params(alpha, ior, prism, 0.9);
-    const sim::Sheet sh = sim::sheet_from_params(base);
-    const std::vector<sim::Grid> grids = sim::standard_grids(sh, wi);
-    const sim::Run run = run_sim(sh, wi, grids, rays, seed);
-    const sim::Tally& t = run.tally;
-    Params aniso = base;
-    aniso.retro_lobe = 1;
-    const f64::rp_material m = retroprism::prepare_material(retroprism::sanitize(aniso));
-    f64::rp_incident si;
-    f64::rp_incident_setup(m, wi, si);
-    const std::vector<sim::Feature> features = {{wi, si.alphaPerp},
-                                                {dvec3(-wi.x, -wi.y, wi.z), sh.alpha}};
-    const sim::Grid& rg = grids[0];
-    const sim::CellIntegrals meas = sim::integrate_cells(rg, 0, nullptr, features, 4, 64);
-    const int cells = rg.cells();
-    const double fullArea = (rg.x1 - rg.x0) * (rg.y1 - rg.y0) / cells;
-    std::vector<double> density(static_cast<size_t>(cells), 0.0);
-    std::vector<double> weight(static_cast<size_t>(cells), 0.0);
-    std::vector<char> use(static_cast<size_t>(cells), 0);
-    double peak = 0;
-    for (int c = 0; c < cells; ++c)
-        peak = std::max(peak, double(t.counts[0][size_t(c) * sim::kChannels + sim::kRetro]));
-    for (int c = 0; c < cells; ++c) {
-        const double cnt = double(t.counts[0][size_t(c) * sim::kChannels + sim::kRetro]);
-        const double area = meas.param_area[size_t(c)];
-        density[size_t(c)] = area > 0 ? cnt / area : 0;
-        weight[size_t(c)] = cnt;
-        use[size_t(c)] = cnt >= 16 && cnt >= std::exp(-3.0) * peak && area >= 0.5 * fullArea;
-    }
-    const sim::LobeFit simFit = sim::fit_lobe(rg, density, weight, use);
-    REQUIRE(simFit.ok);
-    const sim::Estimate simEnergy = sim::fraction(t.fates[sim::kFateRetro], t.rays);
-    out.energySe = simEnergy.se / simEnergy.value;
-    out.alongSe = simFit.se_ax / simFit.ax;
-    out.acrossSe = simFit.se_ay / simFit.ay;
+    const sim::ConfigResult r =
+        sim::run_config(sim::Config{thetaDeg, alpha, ior, prism}, rays, seed, true, true, 0);
+    REQUIRE(r.sim.fit.ok);
+    out.energySe = sim::rel_se(r.sim.energy);
+    out.alongSe = r.sim.fit.se_ax / r.sim.fit.ax;
+    out.acrossSe = r.sim.fit.se_ay / r.sim.fit.ay;
     for (int v = 0; v < 4; ++v) {
-        Params p = base;
-        p.retro_lobe = v & 1;
-        p.reciprocal = (v & 2) != 0;
-        const sim::CellFunction f = sim::model_function(p, wi);
-        const sim::CellIntegrals ciR = sim::integrate_cells(rg, 3, f, features, 4, 64);
-        const sim::CellIntegrals ciH = sim::integrate_cells(grids[2], 3, f, features, 3, 64);
-        double energy = 0;
-        for (int c = 0; c < grids[2].cells(); ++c)
-            energy += ciH.values[size_t(c) * 3 + 1];
-        std::vector<double> da(size_t(cells), 0.0);
-        for (int c = 0; c < cells; ++c)
-            if (ciR.param_area[size_t(c)] > 0)
-                da[size_t(c)] =
-                    ciR.values[size_t(c) * 3 + 1] * double(t.rays) / ciR.param_area[size_t(c)];
-        const sim::LobeFit fit = sim::fit_lobe(rg, da, weight, use);
-        REQUIRE(fit.ok);
-        out.energy[v] = energy / simEnergy.value - 1;
-        out.along[v] = fit.ax / simFit.ax - 1;
-        out.across[v] = fit.ay / simFit.ay - 1;
+        REQUIRE(r.v[size_t(v)].fit.ok);
+        out.energy[v] = sim::energy_err(r, v);
+        out.along[v] = sim::width_err(r, v, true);
+        out.across[v] = sim::width_err(r, v, false);
     }
     return out;
 }
@@ -455,7 +411,7 @@ TEST_CASE("simulate writes EXR and JSON per incidence and names bad inputs", "[s
          "/nonexistent/m.json: cannot open"},
         {"simulate --theta-i 10 --material " + badMaterial.string(), "roughness"},
         {"simulate --study --rays 5", "--rays 5: expected a whole number in [1000, "},
-        {"simulate --study --bogus", "unknown argument --bogus"},
+        {"simulate --study --bogus", "Invalid option \"--bogus\""},
         {"simulate --study --doc notes.txt", "--doc notes.txt: expected a .md file name"},
     };
     for (const Bad& b : bad) {
