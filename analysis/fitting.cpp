@@ -5,7 +5,10 @@
 #include <cmath>
 #include <functional>
 #include <limits>
-#include <thread>
+
+#include "linalg.h"
+#include "parallel.h"
+#include "stats.h"
 
 namespace retroprism {
 
@@ -25,31 +28,6 @@ double sigmoid(double u) {
 }
 double logit(double t) {
     return std::log(t / (1.0 - t));
-}
-
-// Runs body over [0, n) in contiguous chunks on `threads` threads (0: one per core). Each
-// sample is computed alone, so the results do not depend on the number of threads.
-void parallel(size_t n, int threads, const std::function<void(size_t, size_t)>& body) {
-    if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));
-    threads = std::max(1, std::min(threads, int(n / 256) + 1));
-    if (threads == 1) {
-        body(0, n);
-        return;
-    }
-    std::vector<std::thread> pool;
-    for (int t = 0; t < threads; ++t) {
-        const size_t b = n * size_t(t) / size_t(threads), e = n * size_t(t + 1) / size_t(threads);
-        pool.emplace_back([&body, b, e] { body(b, e); });
-    }
-    for (std::thread& th : pool)
-        th.join();
-}
-
-double median(std::vector<double> v) {
-    if (v.empty()) return 0.0;
-    auto mid = v.begin() + std::ptrdiff_t(v.size() / 2);
-    std::nth_element(v.begin(), mid, v.end());
-    return *mid;
 }
 
 // The weights and the floor epsilon of the objective (see fitting.h).
@@ -141,7 +119,7 @@ std::vector<Basis3> node_basis(double alpha, double eta, int mode, const FitData
         f64::rp_incident_setup(gr.mr, wi, gr.sr);
     }
     std::vector<Basis3> B(d.samples.size());
-    parallel(d.samples.size(), o.threads, [&](size_t b, size_t e) {
+    parallel_ranges(d.samples.size(), o.threads, 256, [&](size_t b, size_t e) {
         for (size_t i = b; i < e; ++i) {
             const FitSample& s = d.samples[i];
             B[i] = {0.0, 0.0, 0.0};
@@ -193,32 +171,6 @@ double inner_cost(const Model& model, int n, const std::array<double, 3>& c,
     return cost;
 }
 
-// Solves the n x n system A x = b (n <= 3) by Gaussian elimination with partial pivoting.
-bool solve_small(int n, double A[3][3], double b[3], double x[3]) {
-    int perm[3] = {0, 1, 2};
-    for (int k = 0; k < n; ++k) {
-        int p = k;
-        for (int i = k + 1; i < n; ++i)
-            if (std::abs(A[perm[i]][k]) > std::abs(A[perm[p]][k])) p = i;
-        std::swap(perm[k], perm[p]);
-        const double piv = A[perm[k]][k];
-        if (!(std::abs(piv) > 1e-300)) return false;
-        for (int i = k + 1; i < n; ++i) {
-            const double f = A[perm[i]][k] / piv;
-            for (int j = k; j < n; ++j)
-                A[perm[i]][j] -= f * A[perm[k]][j];
-            b[perm[i]] -= f * b[perm[k]];
-        }
-    }
-    for (int k = n - 1; k >= 0; --k) {
-        double s = b[perm[k]];
-        for (int j = k + 1; j < n; ++j)
-            s -= A[perm[k]][j] * x[j];
-        x[k] = s / A[perm[k]][k];
-    }
-    return true;
-}
-
 template <class Model>
 Inner solve_inner(const Model& model, int n, std::array<double, 3> c,
                   const std::vector<double>& logY, const Weighting& wt) {
@@ -253,15 +205,15 @@ Inner solve_inner(const Model& model, int n, std::array<double, 3> c,
         if (nf == 0) break;
         bool improved = false;
         while (lambda < 1e12) {
-            double A[3][3], b[3], x[3];
+            double A[9], b[3], x[3];
             for (int a = 0; a < nf; ++a) {
                 for (int bb = 0; bb < nf; ++bb)
-                    A[a][bb] = H[freeIdx[a]][freeIdx[bb]];
-                A[a][a] += lambda * H[freeIdx[a]][freeIdx[a]] + 1e-300;
+                    A[a * nf + bb] = H[freeIdx[a]][freeIdx[bb]];
+                A[a * nf + a] += lambda * H[freeIdx[a]][freeIdx[a]] + 1e-300;
                 b[a] = -g[freeIdx[a]];
             }
             std::array<double, 3> trial = best.c;
-            if (solve_small(nf, A, b, x))
+            if (solve_linear(nf, 1, A, b, x))
                 for (int a = 0; a < nf; ++a)
                     trial[size_t(freeIdx[a])] =
                         std::clamp(trial[size_t(freeIdx[a])] + x[a], 0.0, 1.0);
@@ -443,7 +395,7 @@ std::vector<MrmUnit> mrm_basis(double alpha, double eta, const FitData& d, const
     plain.roughness = alpha;
     blurred.ior = plain.ior = eta;
     std::vector<MrmUnit> U(d.samples.size());
-    parallel(d.samples.size(), o.threads, [&](size_t b, size_t e) {
+    parallel_ranges(d.samples.size(), o.threads, 256, [&](size_t b, size_t e) {
         for (size_t i = b; i < e; ++i) {
             const FitSample& s = d.samples[i];
             const double c = std::max(s.wo.z, 0.0);

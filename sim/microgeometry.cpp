@@ -1,6 +1,7 @@
 // microgeometry.cpp: the microgeometry simulator (see microgeometry.h for what is simulated).
 #include "microgeometry.h"
 
+#include "linalg.h"
 #include "parallel.h"
 
 #include <algorithm>
@@ -783,37 +784,14 @@ LobeFit fit_lobe(const Grid& g, const std::vector<double>& density, const std::v
     }
     fit.cells = used;
     if (used < 8) return fit;
-    // Invert by Gauss-Jordan with partial pivoting.
-    double inv[5][5] = {};
-    double m[5][5];
-    for (int a = 0; a < 5; ++a)
-        for (int b = 0; b < 5; ++b) {
-            m[a][b] = ata[a][b];
-            inv[a][b] = a == b ? 1.0 : 0.0;
-        }
-    for (int col = 0; col < 5; ++col) {
-        int piv = col;
-        for (int r = col + 1; r < 5; ++r)
-            if (std::abs(m[r][col]) > std::abs(m[piv][col])) piv = r;
-        if (!(std::abs(m[piv][col]) > 1e-300)) return fit;
-        for (int b = 0; b < 5; ++b) {
-            std::swap(m[col][b], m[piv][b]);
-            std::swap(inv[col][b], inv[piv][b]);
-        }
-        const double d = m[col][col];
-        for (int b = 0; b < 5; ++b) {
-            m[col][b] /= d;
-            inv[col][b] /= d;
-        }
-        for (int r = 0; r < 5; ++r) {
-            if (r == col) continue;
-            const double factor = m[r][col];
-            for (int b = 0; b < 5; ++b) {
-                m[r][b] -= factor * m[col][b];
-                inv[r][b] -= factor * inv[col][b];
-            }
-        }
+    // The inverse of the normal matrix (its diagonal gives the coefficients' variances).
+    double m[25], identity[25] = {}, inv[5][5];
+    for (int a = 0; a < 5; ++a) {
+        identity[a * 5 + a] = 1.0;
+        for (int b = 0; b < 5; ++b)
+            m[a * 5 + b] = ata[a][b];
     }
+    if (!solve_linear(5, 5, m, identity, &inv[0][0])) return fit;
     double coef[5] = {};
     for (int a = 0; a < 5; ++a)
         for (int b = 0; b < 5; ++b)
