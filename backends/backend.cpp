@@ -15,6 +15,7 @@ using nlohmann::json;
 
 namespace {
 
+// The C++ node in double (the reference) or float.
 template <class Real>
 class CppBackend final : public Backend {
   public:
@@ -22,22 +23,7 @@ class CppBackend final : public Backend {
     std::string name() const override { return name_; }
     std::vector<BackendResult> evaluate(const Params& p,
                                         const std::vector<DirectionPair>& pairs) override {
-        using Node = PrismaticRetroreflector<Real>;
-        using vec3 = typename Node::vec3;
-        const Node node(p);
-        auto rgb = [](const vec3& v) {
-            return std::array<double, 3>{double(v.x), double(v.y), double(v.z)};
-        };
-        std::vector<BackendResult> out;
-        out.reserve(pairs.size());
-        for (const DirectionPair& s : pairs) {
-            const vec3 wi(Real(s.wi[0]), Real(s.wi[1]), Real(s.wi[2]));
-            const vec3 wo(Real(s.wo[0]), Real(s.wo[1]), Real(s.wo[2]));
-            const typename Node::Eval e = node.eval(wi, wo);
-            out.push_back({rgb(e.f.total()), rgb(e.f.surface), rgb(e.f.retro), rgb(e.f.diffuse),
-                           double(e.pdf)});
-        }
-        return out;
+        return evaluate_node<Real>(p, pairs);
     }
 
   private:

@@ -3,25 +3,16 @@
 // and materialx (the shader real MaterialX generates, on OpenGL).
 #pragma once
 
-#include <array>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "answer.h"
 #include "query.h"
 
 namespace retroprism {
-
-// The node's per-lobe BRDF (RGB, 1/sr, no cosine) and the sampling pdf at one direction pair.
-struct BackendResult {
-    std::array<double, 3> f{}; // the sum of the lobes, in the backend's own precision
-    std::array<double, 3> surface{};
-    std::array<double, 3> retro{};
-    std::array<double, 3> diffuse{};
-    double pdf = 0; // NaN: the backend has no pdf (a MaterialX shader has none)
-};
 
 class Backend {
   public:

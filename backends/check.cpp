@@ -5,6 +5,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "stats.h"
+
 namespace retroprism {
 
 using nlohmann::json;
@@ -112,17 +114,36 @@ std::vector<Query> check_query_set() {
 
 namespace {
 
+// The compared values of a result: the three lobes (RGB) and the pdf.
+const char* const kLobeNames[3] = {"surface", "retro", "diffuse"};
+
+const std::array<double, 3>& lobe(const BackendResult& r, int k) {
+    return k == 0 ? r.surface : k == 1 ? r.retro : r.diffuse;
+}
+
+// A lobe ("surface", "retro", "diffuse") or the pdf of a result as JSON, for reports.
+json value_json(const BackendResult& r, const std::string& what) {
+    if (what == "pdf") return std::isnan(r.pdf) ? json(nullptr) : json(r.pdf);
+    for (int k = 0; k < 3; ++k)
+        if (what == kLobeNames[k]) return json(lobe(r, k));
+    return json(nullptr);
+}
+
+std::vector<BackendResult> reference(const Params& p, const std::vector<DirectionPair>& pairs) {
+    return backend("cpp-double").evaluate(p, pairs);
+}
+
 // The reference's change when each direction of each sample is turned by one float ulp: the
 // largest absolute change over the eight turns, per compared value (9 lobe channels, pdf).
 std::vector<std::array<double, 10>> input_sensitivity(const Query& q) {
     const double ulp = std::ldexp(1.0, -24);
     std::vector<std::array<double, 10>> sens(q.samples.size());
-    const json base = answer_query(q, "cpp-double")["results"];
+    const std::vector<BackendResult> base = reference(q.material, q.samples);
     for (int dirIdx = 0; dirIdx < 2; ++dirIdx)
         for (int axis = 0; axis < 2; ++axis)
             for (int sign = -1; sign <= 1; sign += 2) {
-                Query turned = q;
-                for (DirectionPair& s : turned.samples) {
+                std::vector<DirectionPair> turned = q.samples;
+                for (DirectionPair& s : turned) {
                     Vec3d& w = dirIdx == 0 ? s.wi : s.wo;
                     glm::dvec3 v(w[0], w[1], w[2]);
                     glm::dvec3 helper =
@@ -132,69 +153,78 @@ std::vector<std::array<double, 10>> input_sensitivity(const Query& q) {
                     glm::dvec3 t = v + double(sign) * ulp * (axis == 0 ? a : b);
                     w = {t.x, t.y, t.z};
                 }
-                const json r = answer_query(turned, "cpp-double")["results"];
-                const char* keys[] = {"surface", "retro", "diffuse"};
+                const std::vector<BackendResult> r = reference(q.material, turned);
                 for (size_t i = 0; i < sens.size(); ++i) {
                     for (int k = 0; k < 3; ++k)
                         for (int ch = 0; ch < 3; ++ch)
-                            sens[i][3 * k + ch] = std::max(
-                                sens[i][3 * k + ch], std::abs(r[i][keys[k]][ch].get<double>() -
-                                                              base[i][keys[k]][ch].get<double>()));
-                    sens[i][9] = std::max(sens[i][9], std::abs(r[i]["pdf"].get<double>() -
-                                                               base[i]["pdf"].get<double>()));
+                            sens[i][size_t(3 * k + ch)] = std::max(
+                                sens[i][size_t(3 * k + ch)],
+                                std::abs(lobe(r[i], k)[size_t(ch)] - lobe(base[i], k)[size_t(ch)]));
+                    sens[i][9] = std::max(sens[i][9], std::abs(r[i].pdf - base[i].pdf));
                 }
             }
     return sens;
 }
 
+// The largest reference value of each lobe and of the pdf over a material's samples.
+std::array<double, 4> peaks(const std::vector<BackendResult>& ref) {
+    std::array<double, 4> peak = {0, 0, 0, 0};
+    for (const BackendResult& r : ref) {
+        for (int k = 0; k < 3; ++k)
+            for (int ch = 0; ch < 3; ++ch)
+                peak[size_t(k)] = std::max(peak[size_t(k)], std::abs(lobe(r, k)[size_t(ch)]));
+        peak[3] = std::max(peak[3], std::abs(r.pdf));
+    }
+    return peak;
+}
+
+// One sample of a backend against the reference under the contract: its largest err (returned)
+// and which value it was (`where`); every value's relative difference goes into rep.max_rel.
+double sample_error(const BackendResult& got, const BackendResult& ref,
+                    const std::array<double, 4>& peak, const std::array<double, 10>& sens,
+                    const ToleranceContract& c, CheckReport& rep, std::string& where) {
+    double worst = 0;
+    auto compare = [&](double x, double r, double pk, double sensitivity, const char* what) {
+        const double scale = std::max(std::abs(r), c.floor_fraction * pk);
+        const double diff = std::abs(x - r);
+        // Equal values agree whatever the scale (a lobe that is 0 for the whole material has no
+        // peak); any difference at zero scale, or a non-finite value, fails.
+        double rel = diff == 0 ? 0.0 : diff / scale;
+        double err = diff == 0 ? 0.0 : diff / (scale + c.input_ulps * sensitivity / c.per_sample);
+        if (!std::isfinite(x) || std::isnan(rel) || std::isnan(err)) err = rel = INFINITY;
+        if (!(rel <= rep.max_rel)) rep.max_rel = rel;
+        if (!(err <= worst)) {
+            worst = err;
+            where = what;
+        }
+        rep.values += 1;
+    };
+    for (int k = 0; k < 3; ++k)
+        for (int ch = 0; ch < 3; ++ch)
+            compare(lobe(got, k)[size_t(ch)], lobe(ref, k)[size_t(ch)], peak[size_t(k)],
+                    sens[size_t(3 * k + ch)], kLobeNames[k]);
+    // A backend without a pdf (MaterialX's shaders have none) answers NaN.
+    if (!std::isnan(got.pdf)) compare(got.pdf, ref.pdf, peak[3], sens[9], "pdf");
+    return worst;
+}
+
 } // namespace
 
-CheckReport check_backend(const std::string& backend, const ToleranceContract& c) {
+CheckReport check_backend(const std::string& name, const ToleranceContract& c) {
     CheckReport rep;
-    rep.backend = backend;
+    rep.backend = name;
+    Backend& tested = backend(name);
     std::vector<double> sampleErr;
     const std::vector<Query> queries = check_query_set();
     for (size_t qi = 0; qi < queries.size(); ++qi) {
         const Query& q = queries[qi];
-        const json ref = answer_query(q, "cpp-double")["results"];
-        const json got = answer_query(q, backend)["results"];
+        const std::vector<BackendResult> ref = reference(q.material, q.samples);
+        const std::vector<BackendResult> got = tested.evaluate(q.material, q.samples);
         const std::vector<std::array<double, 10>> sens = input_sensitivity(q);
-        const char* keys[] = {"surface", "retro", "diffuse"};
-        double peak[4] = {0, 0, 0, 0};
-        for (const json& r : ref) {
-            for (int k = 0; k < 3; ++k)
-                for (int ch = 0; ch < 3; ++ch)
-                    peak[k] = std::max(peak[k], std::abs(r[keys[k]][ch].get<double>()));
-            peak[3] = std::max(peak[3], std::abs(r["pdf"].get<double>()));
-        }
+        const std::array<double, 4> peak = peaks(ref);
         for (size_t i = 0; i < ref.size(); ++i) {
-            double worst = 0;
             std::string where;
-            auto compare = [&](double x, double r, double pk, double sensitivity,
-                               const std::string& what) {
-                const double scale = std::max(std::abs(r), c.floor_fraction * pk);
-                const double diff = std::abs(x - r);
-                // Equal values agree whatever the scale (a lobe that is 0 for the whole material
-                // has no peak); any difference at zero scale, or a non-finite value, fails.
-                double rel = diff == 0 ? 0.0 : diff / scale;
-                double err =
-                    diff == 0 ? 0.0 : diff / (scale + c.input_ulps * sensitivity / c.per_sample);
-                if (!std::isfinite(x) || std::isnan(rel) || std::isnan(err)) err = rel = INFINITY;
-                if (!(rel <= rep.max_rel)) rep.max_rel = rel;
-                if (!(err <= worst)) {
-                    worst = err;
-                    where = what;
-                }
-                rep.values += 1;
-            };
-            for (int k = 0; k < 3; ++k)
-                for (int ch = 0; ch < 3; ++ch)
-                    compare(got[i][keys[k]][ch].get<double>(), ref[i][keys[k]][ch].get<double>(),
-                            peak[k], sens[i][3 * k + ch], keys[k]);
-            // A backend without a pdf (MaterialX's shaders have none) answers null.
-            if (!got[i]["pdf"].is_null())
-                compare(got[i]["pdf"].get<double>(), ref[i]["pdf"].get<double>(), peak[3],
-                        sens[i][9], "pdf");
+            const double worst = sample_error(got[i], ref[i], peak, sens[i], c, rep, where);
             rep.samples += 1;
             if (worst > c.per_sample) rep.failures += 1;
             sampleErr.push_back(worst);
@@ -204,17 +234,13 @@ CheckReport check_backend(const std::string& backend, const ToleranceContract& c
                 ss << "material " << qi << " " << params_to_json(q.material).dump() << ", sample "
                    << i << " wi " << json(q.samples[i].wi).dump() << " wo "
                    << json(q.samples[i].wo).dump() << ", " << where << ": "
-                   << ref[i][where == "pdf" ? "pdf" : where].dump() << " vs "
-                   << got[i][where == "pdf" ? "pdf" : where].dump();
+                   << value_json(ref[i], where).dump() << " vs "
+                   << value_json(got[i], where).dump();
                 rep.worst = ss.str();
             }
         }
     }
-    if (!sampleErr.empty()) {
-        std::nth_element(sampleErr.begin(), sampleErr.begin() + long(sampleErr.size() / 2),
-                         sampleErr.end());
-        rep.median_err = sampleErr[sampleErr.size() / 2];
-    }
+    rep.median_err = median(sampleErr);
     rep.passed = rep.samples > 0 &&
                  double(rep.failures) <= c.allowed_fraction * double(rep.samples) &&
                  rep.max_err <= c.hard_max;

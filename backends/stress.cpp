@@ -1,4 +1,4 @@
-// stress.cpp: the adversarial sweep of every backend (`retroprism check --stress`, issue 8).
+// stress.cpp: the adversarial sweep of a backend (`retroprism check --stress`).
 //
 // A deterministic generator concentrates on the places where a BRDF implementation breaks:
 //  - materials: every combination of the enums and booleans of the parameter table, then each
@@ -17,6 +17,8 @@
 //    opposite direction, non-finite, zero and random ones. Directions are made in the local
 //    frame and taken into the parameter frame of the node (tilted frames), then rounded to the
 //    backend's precision; ulp neighbours are taken after that rounding.
+// Random choices come from util's Rng, one stream per material (its index), so the sweep does
+// not depend on the thread count.
 // Every value a backend returns is checked: NaN, Inf and negative values are counted (the
 // required count is zero), and the guards of the contract must hold (a zero or non-finite
 // direction, and in C++ one below RP_MIN_COS or a zero weight, gives exactly zero and an empty
@@ -31,14 +33,13 @@
 // sample() is also called with u outside its contract [0, 1)^3 (NaN, Inf, negative, > 1): it
 // clamps u (NaN taken as 0), so such a sample must be finite and non-negative too.
 //
-// Sizes: 1e7 evaluations for each C++ backend and 1e6 for each GL one, batched per material
-// (one query of about 2500 pairs each). Measured here (two cores, llvmpipe): cpp-double 5 s,
+// Sizes (Options): 1e7 evaluations for each C++ backend and 1e6 for each GL one, batched per
+// material (about 2500 pairs each). Measured on two cores with llvmpipe: cpp-double 5 s,
 // cpp-float 4 s, glsl 2 s, materialx 35 s on an idle machine, up to four times that under load.
-// tests/test_stress.cpp compiles this file and runs a bounded version (Options::pair_stride).
 #include "stress.h"
 
 #include <algorithm>
-#include <atomic>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -46,20 +47,20 @@
 #include <cstring>
 #include <functional>
 #include <limits>
-#include <map>
 #include <mutex>
-#include <sstream>
+#include <stdexcept>
 #include <string>
-#include <thread>
+#include <type_traits>
 #include <vector>
 
 #include "backend.h"
-#include "query.h"
+#include "parallel.h"
+#include "rng.h"
 
 namespace retroprism {
 namespace stress {
 
-using nlohmann::json;
+namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -70,28 +71,12 @@ constexpr double kFltEps = double(std::numeric_limits<float>::epsilon());
 const double kMinAlpha = f64::RP_MIN_ALPHA;
 const double kMinCos = f64::RP_MIN_COS;
 
-// Sizes of the full sweep (issue 8): evaluations per backend.
-constexpr long kCppEvaluations = 10000000;
-constexpr long kGlEvaluations = 1000000;
+// The seeds of the sweep's random streams (each Rng's stream is the material's index): the
+// random materials, their direction pairs, the C++ backends' sample() arguments.
+constexpr std::uint64_t kMaterialSeed = 0x5eed0000ull;
+constexpr std::uint64_t kPairSeed = 0xC0FFEEull;
+constexpr std::uint64_t kSampleSeed = 0x5a3b1e5ull;
 
-// A fixed-seed generator (splitmix64): the same stream on every platform.
-class Rng {
-  public:
-    explicit Rng(std::uint64_t seed) : state_(seed) {}
-    std::uint64_t next() {
-        std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
-        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-        return z ^ (z >> 31);
-    }
-    double uniform() { return double(next() >> 11) * 0x1.0p-53; } // [0, 1)
-    size_t index(size_t n) { return size_t(next() % n); }
-
-  private:
-    std::uint64_t state_;
-};
-
-// Neighbours in double and in float (returned as double).
 double next_d(double x, double toward) {
     return std::nextafter(x, toward);
 }
@@ -359,29 +344,12 @@ Params combination(long k) {
     return p;
 }
 
-// Material number `index` of the sweep and a label for it. The sequence: every combination of
-// the enums and booleans; each single mutation, on the combinations in turn; then random
-// materials whose inputs are each a hard value (probability 0.4) or a random in-range value.
-Params material(long index, std::string* label) {
-    static const std::vector<Mutation> singles = single_mutations();
+// A random material (number `index` of them): the inputs of a random combination each at a hard
+// value (probability 0.4) or a random in-range value.
+Params random_material(long index) {
     const long combos = combination_count();
-    if (index < combos) {
-        if (label) *label = "combination " + std::to_string(index);
-        return combination(index);
-    }
-    index -= combos;
-    if (index < long(singles.size())) {
-        Params p = combination((index * 7) % combos);
-        singles[size_t(index)].apply(p);
-        if (label)
-            *label = "combination " + std::to_string((index * 7) % combos) + " with " +
-                     singles[size_t(index)].label;
-        return p;
-    }
-    index -= long(singles.size());
-    Rng rng(0x5eed0000ull + std::uint64_t(index));
+    Rng rng(kMaterialSeed, std::uint64_t(index));
     Params p = combination(long(rng.index(size_t(combos))));
-    std::string what;
     for (const ParamInfo& info : param_table()) {
         const std::string name = info.name;
         const bool hard = rng.uniform() < 0.4;
@@ -431,9 +399,42 @@ Params material(long index, std::string* label) {
         }
         }
     }
-    if (label) *label = "random material " + std::to_string(index);
     return p;
 }
+
+// The single-input hard values, made once.
+const std::vector<Mutation>& singles() {
+    static const std::vector<Mutation> s = single_mutations();
+    return s;
+}
+
+} // namespace
+
+Params material(long index, std::string* label) {
+    const long combos = combination_count();
+    if (index < combos) {
+        if (label) *label = "combination " + std::to_string(index);
+        return combination(index);
+    }
+    index -= combos;
+    if (index < long(singles().size())) {
+        Params p = combination((index * 7) % combos);
+        singles()[size_t(index)].apply(p);
+        if (label)
+            *label = "combination " + std::to_string((index * 7) % combos) + " with " +
+                     singles()[size_t(index)].label;
+        return p;
+    }
+    index -= long(singles().size());
+    if (label) *label = "random material " + std::to_string(index);
+    return random_material(index);
+}
+
+long hard_material_count() {
+    return combination_count() + long(singles().size());
+}
+
+namespace {
 
 // All inputs of a material, exactly (for reports).
 std::string describe(const Params& p) {
@@ -542,9 +543,11 @@ std::vector<Vec3d> degenerate_versions(const Vec3d& w) {
         scaled(1e19), scaled(1e200),         scaled(1.0 + 5e-7), scaled(1.0 + 2e-6), scaled(7.5)};
 }
 
-std::vector<DirectionPair> stress_pairs(const Params& p, bool floatInputs, std::uint64_t seed) {
+} // namespace
+
+std::vector<DirectionPair> stress_pairs(const Params& p, bool floatInputs, std::uint64_t stream) {
     PairBuilder b(p, floatInputs);
-    Rng rng(seed);
+    Rng rng(kPairSeed, stream);
     const double alpha = std::max(b.node().params().roughness, kMinAlpha);
     std::vector<DirectionPair> out;
     for (const glm::dvec3& wiL : incident_set(rng, alpha)) {
@@ -604,82 +607,9 @@ std::vector<DirectionPair> stress_pairs(const Params& p, bool floatInputs, std::
     return out;
 }
 
+namespace {
+
 // ---- Counting ---------------------------------------------------------------------------
-
-// What one backend's sweep found.
-struct Tally {
-    std::string backend;
-    long materials = 0;
-    long evaluations = 0; // eval() calls, or (wi, wo) pairs answered by a GL backend
-    long nonzero = 0;     // ... with a finite non-zero value (the sweep is not all zeros)
-    long samples = 0;     // sample() calls (C++ backends)
-    long nonempty = 0;    // ... that returned a direction
-    long albedos = 0;     // albedo() calls (C++ backends)
-    long values = 0;      // every number checked
-    long nan = 0, inf = 0, negative = 0;
-    // The guards of the contract: a zero, non-finite or below-horizon direction (or weight 0)
-    // must give exactly zero values, a zero pdf and an empty sample.
-    long guard = 0;
-    // A sample whose f or pdf differs from eval / pdf at the same local direction, or from the
-    // core's sample, or a non-empty sample with pdf <= 0.
-    long inconsistent = 0;
-    // Samples whose f or pdf differ from eval(wi, s.wo) beyond the tolerance only because the
-    // frame's round trip (to_world in sample, to_local in eval) moved the direction by a few
-    // ulp; at the same local direction they agree. Reported, not a failure.
-    long round_trip = 0;
-    double round_trip_max_rel = 0;
-    double round_trip_max_ulps = 0;
-    // sample() with u outside [0, 1)^3 (NaN, Inf, negative, > 1: outside the contract):
-    // calls, and calls whose output has NaN, Inf or a negative value. Reported, not a failure.
-    long oob_samples = 0, oob_bad = 0;
-    double seconds = 0;
-    // Every failure by cause, with the exact inputs of the first few.
-    struct Cause {
-        long count = 0;
-        std::vector<std::string> examples;
-    };
-    std::map<std::string, Cause> causes;
-    std::vector<std::string> oob_examples;
-    static constexpr size_t kMaxExamples = 3;
-
-    bool passed() const {
-        return nan == 0 && inf == 0 && negative == 0 && guard == 0 && inconsistent == 0 &&
-               oob_bad == 0;
-    }
-    void add(const Tally& o) {
-        materials += o.materials;
-        evaluations += o.evaluations;
-        nonzero += o.nonzero;
-        samples += o.samples;
-        nonempty += o.nonempty;
-        albedos += o.albedos;
-        values += o.values;
-        nan += o.nan;
-        inf += o.inf;
-        negative += o.negative;
-        guard += o.guard;
-        inconsistent += o.inconsistent;
-        round_trip += o.round_trip;
-        round_trip_max_rel = std::max(round_trip_max_rel, o.round_trip_max_rel);
-        round_trip_max_ulps = std::max(round_trip_max_ulps, o.round_trip_max_ulps);
-        oob_samples += o.oob_samples;
-        oob_bad += o.oob_bad;
-        for (const auto& [name, c] : o.causes) {
-            Cause& mine = causes[name];
-            mine.count += c.count;
-            for (const std::string& e : c.examples)
-                if (mine.examples.size() < kMaxExamples) mine.examples.push_back(e);
-        }
-        for (const std::string& e : o.oob_examples)
-            if (oob_examples.size() < kMaxExamples) oob_examples.push_back(e);
-    }
-    // Records a failure (already counted in its column) under its cause.
-    void failure(const std::string& cause, const std::string& what) {
-        Cause& c = causes[cause];
-        ++c.count;
-        if (c.examples.size() < kMaxExamples) c.examples.push_back(what);
-    }
-};
 
 // Counts one returned number; `where` describes it (called only when it is bad).
 template <class Where>
@@ -767,72 +697,86 @@ double frame_error_ulps(const Node& node) {
 
 // The C++ node of precision Real over one material: every pair evaluated, samples at every
 // incident direction, albedos at a few.
+
+// The C++ node of precision Real over one material: every pair evaluated, samples at every
+// incident direction, albedos at a few; everything counted into one tally.
 template <class Real>
-void sweep_cpp(const Params& p, const std::string& label, const std::vector<DirectionPair>& pairs,
-               std::uint64_t seed, Tally& t) {
+class CppSweep {
+  public:
     using Node = PrismaticRetroreflector<Real>;
     using vec3 = typename Node::vec3;
     using Core = core<Real>;
-    const Node node(p);
-    const double frameUlps = frame_error_ulps(node);
-    const auto& m = node.core_material();
-    const bool weighted = m.weight > Real(0);
-    const Real minCos = Real(kMinCos);
-    const double tol = Precision<Real>::rel;
-    auto toReal = [](const Vec3d& v) { return vec3(Real(v[0]), Real(v[1]), Real(v[2])); };
-    // True when the contract lets (wi, wo) reflect: both directions finite, non-zero and at
-    // least RP_MIN_COS above the horizon, and a positive weight.
-    auto valid = [&](const vec3& w, vec3& local) {
-        return node.to_local(w, local) && local.z >= minCos;
-    };
-    auto where = [&](const vec3& wi, const vec3* wo, const char* call) {
+
+    CppSweep(const Params& p, const std::string& label, Tally& t)
+        : p_(p), label_(label), t_(t), node_(p), m_(node_.core_material()),
+          frameUlps_(frame_error_ulps(node_)), weighted_(m_.weight > Real(0)) {}
+
+    // The pairs of the material; `rng` gives the random u of sample().
+    void run(const std::vector<DirectionPair>& pairs, Rng& rng) {
+        ++t_.materials;
+        for (const DirectionPair& pr : pairs)
+            eval_pair(to_real(pr.wi), to_real(pr.wo));
+        // sample() at every distinct incident direction (the pairs of one wi are adjacent), and
+        // with u outside its contract at the first four.
+        const DirectionPair* prev = nullptr;
+        int incidentIndex = 0;
+        for (const DirectionPair& pr : pairs) {
+            if (prev && std::memcmp(prev->wi.data(), pr.wi.data(), sizeof pr.wi) == 0) continue;
+            prev = &pr;
+            const vec3 wi = to_real(pr.wi);
+            sample_incident(wi, rng);
+            if (incidentIndex++ < 4) sample_outside_contract(wi);
+        }
+        albedos();
+    }
+
+  private:
+    static vec3 to_real(const Vec3d& v) { return vec3(Real(v[0]), Real(v[1]), Real(v[2])); }
+
+    // True when the contract lets w reflect: finite, non-zero and at least RP_MIN_COS above the
+    // horizon (a pair reflects when both do and the weight is positive).
+    bool valid(const vec3& w, vec3& local) const {
+        return node_.to_local(w, local) && local.z >= Real(kMinCos);
+    }
+
+    std::string where(const vec3& wi, const vec3* wo, const char* call) const {
         std::string s = std::string("at ") + call + " wi = " + vec_text(wi);
         if (wo) s += ", wo = " + vec_text(*wo);
-        return s + " of " + label + ": " + describe(p);
-    };
-    ++t.materials;
+        return s + " of " + label_ + ": " + describe(p_);
+    }
 
-    // eval() at every pair.
-    for (const DirectionPair& pr : pairs) {
-        const vec3 wi = toReal(pr.wi), wo = toReal(pr.wo);
-        const typename Node::Eval e = node.eval(wi, wo);
-        ++t.evaluations;
+    // eval() at one pair: finite, non-negative, zero where the guards say so.
+    void eval_pair(const vec3& wi, const vec3& wo) {
+        const typename Node::Eval e = node_.eval(wi, wo);
+        ++t_.evaluations;
         auto at = [&] { return where(wi, &wo, "eval"); };
         bool zero = true;
         const vec3 total = e.f.total();
         for (int c = 0; c < 3; ++c)
             for (Real v : {e.f.surface[c], e.f.retro[c], e.f.diffuse[c], total[c]}) {
-                check_value(t, double(v), false, "eval", at);
+                check_value(t_, double(v), false, "eval", at);
                 zero = zero && v == Real(0);
             }
-        check_value(t, double(e.pdf), false, "eval", at);
+        check_value(t_, double(e.pdf), false, "eval", at);
         zero = zero && e.pdf == Real(0);
-        if (!zero) ++t.nonzero;
+        if (!zero) ++t_.nonzero;
         vec3 wiL, woL;
-        if (!zero && !(weighted && valid(wi, wiL) && valid(wo, woL))) {
-            ++t.guard;
-            t.failure("guard: eval not zero",
-                      "non-zero value where the guards require zero " + at());
+        if (!zero && !(weighted_ && valid(wi, wiL) && valid(wo, woL))) {
+            ++t_.guard;
+            t_.failure("guard: eval not zero",
+                       "non-zero value where the guards require zero " + at());
         }
     }
 
-    // sample() at every distinct incident direction.
-    const Real below1 = std::nextafter(Real(1), Real(0));
-    const Real tiny = std::numeric_limits<Real>::denorm_min();
-    Rng rng(seed ^ 0x5a3b1e5ull);
-    const DirectionPair* prev = nullptr;
-    int incidentIndex = 0;
-    for (const DirectionPair& pr : pairs) {
-        if (prev && std::memcmp(prev->wi.data(), pr.wi.data(), sizeof pr.wi) == 0) continue;
-        prev = &pr;
-        const vec3 wi = toReal(pr.wi);
-        vec3 wiL;
-        const bool wiValid = weighted && valid(wi, wiL);
-        // The lobe-selection boundaries of this wi.
+    // The u of sample() at one wi: 0, 1 and one ulp below, a denormal, the lobe-selection
+    // boundaries of wi (p0 and p0 + p1) and their neighbours, three random ones.
+    std::vector<vec3> contract_us(bool wiValid, const vec3& wiL, Rng& rng) const {
+        const Real below1 = std::nextafter(Real(1), Real(0));
+        const Real tiny = std::numeric_limits<Real>::denorm_min();
         Real p0 = Real(0.5), p01 = Real(0.75);
         if (wiValid) {
             typename Core::incident s;
-            Core::setup(m, wiL, s);
+            Core::setup(m_, wiL, s);
             p0 = s.lobeProb.x;
             p01 = s.lobeProb.x + s.lobeProb.y;
         }
@@ -849,207 +793,238 @@ void sweep_cpp(const Params& p, const std::string& label, const std::vector<Dire
                                 vec3(Real(0.6), Real(0.2), std::nextafter(p01, Real(0)))};
         for (int k = 0; k < 3; ++k)
             us.push_back(vec3(Real(rng.uniform()), Real(rng.uniform()), Real(rng.uniform())));
-        for (vec3 u : us) {
+        for (vec3& u : us)
             u = glm::clamp(u, vec3(Real(0)), vec3(Real(1)));
-            const auto s = node.sample(wi, u);
-            ++t.samples;
-            if (!s) continue;
-            ++t.nonempty;
-            const vec3 wo = s->wo;
-            auto at = [&] {
-                return where(wi, &wo, "sample") + ", u = " + vec_text(u) + ", lobe " +
-                       std::to_string(s->lobe);
-            };
-            if (!wiValid) {
-                ++t.guard;
-                t.failure("guard: sample not empty",
-                          "non-empty sample where the guards require none " + at());
-                continue;
-            }
-            for (int c = 0; c < 3; ++c) {
-                check_value(t, double(s->f.surface[c]), false, "sample", at);
-                check_value(t, double(s->f.retro[c]), false, "sample", at);
-                check_value(t, double(s->f.diffuse[c]), false, "sample", at);
-                check_value(t, double(wo[c]), true, "sample", at);
-            }
-            check_value(t, double(s->pdf), false, "sample", at);
-            if (!(s->pdf > Real(0))) {
-                ++t.inconsistent;
-                t.failure("sample: pdf not positive",
-                          "non-empty sample with pdf " + num(double(s->pdf)) + " " + at());
-                continue;
-            }
-            // The core's own sample at the same local wi: the node must return it unchanged.
-            vec3 woL;
-            typename Core::lobes r;
-            Real pdf = 0;
-            int lobe = -1;
-            const bool coreOk = Core::sample(m, wiL, u, woL, r, pdf, lobe);
-            const vec3 woWorld = node.to_world(woL);
-            if (!coreOk || std::memcmp(&woWorld, &s->wo, sizeof woWorld) != 0 ||
-                std::memcmp(&pdf, &s->pdf, sizeof pdf) != 0 || lobe != s->lobe ||
-                !lobes_identical(r, typename Core::lobes{s->f.surface, s->f.retro, s->f.diffuse})) {
-                ++t.inconsistent;
-                t.failure("sample: the node's differs from the core's",
-                          "the node's sample differs from the core's " + at());
-                continue;
-            }
-            // eval and pdf at the same local direction.
-            typename Core::lobes re;
-            Real pe = 0;
-            Core::eval(m, wiL, woL, re, pe);
-            const double dCore = std::max(lobes_rel_diff(re, r), rel_diff(pe, pdf));
-            if (!(dCore <= tol)) {
-                ++t.inconsistent;
-                t.failure("sample vs eval at the same local direction",
-                          "sample and eval disagree by " + num(dCore) + " (relative) " + at());
-                continue;
-            }
-            // eval(wi, s.wo) and pdf(wi, s.wo) through the node's frame.
-            const typename Node::Eval e = node.eval(wi, wo);
-            const Real pp = node.pdf(wi, wo);
-            const double dNode = std::max(
-                {lobes_rel_diff(typename Core::lobes{e.f.surface, e.f.retro, e.f.diffuse}, r),
-                 rel_diff(e.pdf, pdf), rel_diff(pp, pdf)});
-            if (dNode <= tol) continue;
-            vec3 woL2;
-            node.to_local(wo, woL2);
-            const double ulps =
-                double(glm::max(glm::abs(woL2.x - woL.x),
-                                glm::max(glm::abs(woL2.y - woL.y), glm::abs(woL2.z - woL.z)))) /
-                double(std::numeric_limits<Real>::epsilon());
-            // Rounding explains the difference only when the frame is orthonormal to its
-            // precision and the round trip moved the local direction by a few ulps.
-            if (std::memcmp(&woL2, &woL, sizeof woL) == 0 || !(frameUlps <= kFrameUlps) ||
-                !(ulps <= kRoundTripUlps) || !(dNode < kInf)) {
-                ++t.inconsistent;
-                t.failure(!(frameUlps <= kFrameUlps)
-                              ? "sample vs eval(wi, s.wo): the frame is not orthonormal"
-                          : !(ulps <= kRoundTripUlps)
-                              ? "sample vs eval(wi, s.wo): the round trip moves wo by more than "
-                                "16 ulp in an orthonormal frame"
-                              : "sample vs eval(wi, s.wo)",
-                          "sample and eval(wi, s.wo) disagree by " + num(dNode) +
-                              " (the frame round trip moved the local direction by " + num(ulps) +
-                              " ulp; frame orthonormal to " + num(frameUlps) + " ulp) " + at());
-                continue;
-            }
-            ++t.round_trip;
-            t.round_trip_max_rel = std::max(t.round_trip_max_rel, dNode);
-            t.round_trip_max_ulps = std::max(t.round_trip_max_ulps, ulps);
+        return us;
+    }
+
+    void sample_incident(const vec3& wi, Rng& rng) {
+        vec3 wiL;
+        const bool wiValid = weighted_ && valid(wi, wiL);
+        for (const vec3& u : contract_us(wiValid, wiL, rng))
+            check_sample(wi, wiValid, wiL, u);
+    }
+
+    // One sample() with u in its contract: empty where the guards say so; otherwise finite,
+    // non-negative, a positive pdf, the core's own sample, and equal to eval and pdf at the
+    // sampled direction.
+    void check_sample(const vec3& wi, bool wiValid, const vec3& wiL, const vec3& u) {
+        const auto s = node_.sample(wi, u);
+        ++t_.samples;
+        if (!s) return;
+        ++t_.nonempty;
+        const vec3 wo = s->wo;
+        auto at = [&] {
+            return where(wi, &wo, "sample") + ", u = " + vec_text(u) + ", lobe " +
+                   std::to_string(s->lobe);
+        };
+        if (!wiValid) {
+            ++t_.guard;
+            t_.failure("guard: sample not empty",
+                       "non-empty sample where the guards require none " + at());
+            return;
         }
-        // u outside the contract [0, 1)^3, at the first incident directions.
-        if (incidentIndex++ < 4) {
-            const Real nan = std::numeric_limits<Real>::quiet_NaN();
-            const Real inf = std::numeric_limits<Real>::infinity();
-            for (const vec3& u : {vec3(nan, Real(0.5), Real(0.5)), vec3(Real(0.5), nan, Real(0.99)),
-                                  vec3(Real(0.5), nan, Real(0.5)), vec3(Real(0.5), nan, Real(0.01)),
-                                  vec3(Real(0.5), Real(0.5), nan), vec3(inf, Real(0.5), Real(0.5)),
-                                  vec3(Real(0.5), -inf, Real(0.99)), vec3(-inf, Real(-1), Real(2)),
-                                  vec3(Real(-0.5), Real(1.5), Real(0.5))}) {
-                const auto s = node.sample(wi, u);
-                ++t.oob_samples;
-                if (!s) continue;
-                bool ok = std::isfinite(double(s->pdf)) && s->pdf > Real(0);
-                for (int c = 0; c < 3; ++c)
-                    for (Real v : {s->f.surface[c], s->f.retro[c], s->f.diffuse[c]})
-                        ok = ok && std::isfinite(double(v)) && v >= Real(0);
-                for (int c = 0; c < 3; ++c)
-                    ok = ok && std::isfinite(double(s->wo[c]));
-                if (!ok) {
-                    ++t.oob_bad;
-                    if (t.oob_examples.size() < Tally::kMaxExamples)
-                        t.oob_examples.push_back(
-                            "sample(wi = " + vec_text(wi) + ", u = " + vec_text(u) + ") = wo " +
-                            vec_text(s->wo) + ", pdf " + num(double(s->pdf)) + ", lobe " +
-                            std::to_string(s->lobe) + " of " + label);
-                }
+        for (int c = 0; c < 3; ++c) {
+            check_value(t_, double(s->f.surface[c]), false, "sample", at);
+            check_value(t_, double(s->f.retro[c]), false, "sample", at);
+            check_value(t_, double(s->f.diffuse[c]), false, "sample", at);
+            check_value(t_, double(wo[c]), true, "sample", at);
+        }
+        check_value(t_, double(s->pdf), false, "sample", at);
+        if (!(s->pdf > Real(0))) {
+            ++t_.inconsistent;
+            t_.failure("sample: pdf not positive",
+                       "non-empty sample with pdf " + num(double(s->pdf)) + " " + at());
+            return;
+        }
+        // The core's own sample at the same local wi: the node must return it unchanged.
+        vec3 woL;
+        typename Core::lobes r;
+        Real pdf = 0;
+        int lobe = -1;
+        const bool coreOk = Core::sample(m_, wiL, u, woL, r, pdf, lobe);
+        const vec3 woWorld = node_.to_world(woL);
+        if (!coreOk || std::memcmp(&woWorld, &s->wo, sizeof woWorld) != 0 ||
+            std::memcmp(&pdf, &s->pdf, sizeof pdf) != 0 || lobe != s->lobe ||
+            !lobes_identical(r, typename Core::lobes{s->f.surface, s->f.retro, s->f.diffuse})) {
+            ++t_.inconsistent;
+            t_.failure("sample: the node's differs from the core's",
+                       "the node's sample differs from the core's " + at());
+            return;
+        }
+        // eval and pdf at the same local direction.
+        typename Core::lobes re;
+        Real pe = 0;
+        Core::eval(m_, wiL, woL, re, pe);
+        const double dCore = std::max(lobes_rel_diff(re, r), rel_diff(pe, pdf));
+        if (!(dCore <= Precision<Real>::rel)) {
+            ++t_.inconsistent;
+            t_.failure("sample vs eval at the same local direction",
+                       "sample and eval disagree by " + num(dCore) + " (relative) " + at());
+            return;
+        }
+        compare_through_frame(wi, wo, woL, r, pdf, at);
+    }
+
+    // eval(wi, s.wo) and pdf(wi, s.wo) through the node's frame against the sample (lobes r,
+    // pdf, at local direction woL): equal within the tolerance, or different only by the
+    // frame's round trip (counted apart).
+    template <class Where>
+    void compare_through_frame(const vec3& wi, const vec3& wo, const vec3& woL,
+                               const typename Core::lobes& r, Real pdf, const Where& at) {
+        const typename Node::Eval e = node_.eval(wi, wo);
+        const Real pp = node_.pdf(wi, wo);
+        const double dNode =
+            std::max({lobes_rel_diff(typename Core::lobes{e.f.surface, e.f.retro, e.f.diffuse}, r),
+                      rel_diff(e.pdf, pdf), rel_diff(pp, pdf)});
+        if (dNode <= Precision<Real>::rel) return;
+        vec3 woL2;
+        node_.to_local(wo, woL2);
+        const double ulps =
+            double(glm::max(glm::abs(woL2.x - woL.x),
+                            glm::max(glm::abs(woL2.y - woL.y), glm::abs(woL2.z - woL.z)))) /
+            double(std::numeric_limits<Real>::epsilon());
+        // Rounding explains the difference only when the frame is orthonormal to its
+        // precision and the round trip moved the local direction by a few ulps.
+        if (std::memcmp(&woL2, &woL, sizeof woL) == 0 || !(frameUlps_ <= kFrameUlps) ||
+            !(ulps <= kRoundTripUlps) || !(dNode < kInf)) {
+            ++t_.inconsistent;
+            t_.failure(!(frameUlps_ <= kFrameUlps)
+                           ? "sample vs eval(wi, s.wo): the frame is not orthonormal"
+                       : !(ulps <= kRoundTripUlps)
+                           ? "sample vs eval(wi, s.wo): the round trip moves wo by more than "
+                             "16 ulp in an orthonormal frame"
+                           : "sample vs eval(wi, s.wo)",
+                       "sample and eval(wi, s.wo) disagree by " + num(dNode) +
+                           " (the frame round trip moved the local direction by " + num(ulps) +
+                           " ulp; frame orthonormal to " + num(frameUlps_) + " ulp) " + at());
+            return;
+        }
+        ++t_.round_trip;
+        t_.round_trip_max_rel = std::max(t_.round_trip_max_rel, dNode);
+        t_.round_trip_max_ulps = std::max(t_.round_trip_max_ulps, ulps);
+    }
+
+    // sample() with u outside the contract [0, 1)^3 (NaN, Inf, negative, > 1): sample() clamps
+    // u, so a sample must still be finite with a positive pdf and non-negative values.
+    void sample_outside_contract(const vec3& wi) {
+        const Real nan = std::numeric_limits<Real>::quiet_NaN();
+        const Real inf = std::numeric_limits<Real>::infinity();
+        for (const vec3& u : {vec3(nan, Real(0.5), Real(0.5)), vec3(Real(0.5), nan, Real(0.99)),
+                              vec3(Real(0.5), nan, Real(0.5)), vec3(Real(0.5), nan, Real(0.01)),
+                              vec3(Real(0.5), Real(0.5), nan), vec3(inf, Real(0.5), Real(0.5)),
+                              vec3(Real(0.5), -inf, Real(0.99)), vec3(-inf, Real(-1), Real(2)),
+                              vec3(Real(-0.5), Real(1.5), Real(0.5))}) {
+            const auto s = node_.sample(wi, u);
+            ++t_.oob_samples;
+            if (!s) continue;
+            bool ok = std::isfinite(double(s->pdf)) && s->pdf > Real(0);
+            for (int c = 0; c < 3; ++c)
+                for (Real v : {s->f.surface[c], s->f.retro[c], s->f.diffuse[c]})
+                    ok = ok && std::isfinite(double(v)) && v >= Real(0);
+            for (int c = 0; c < 3; ++c)
+                ok = ok && std::isfinite(double(s->wo[c]));
+            if (!ok) {
+                ++t_.oob_bad;
+                if (t_.oob_examples.size() < Tally::kMaxExamples)
+                    t_.oob_examples.push_back("sample(wi = " + vec_text(wi) +
+                                              ", u = " + vec_text(u) + ") = wo " + vec_text(s->wo) +
+                                              ", pdf " + num(double(s->pdf)) + ", lobe " +
+                                              std::to_string(s->lobe) + " of " + label_);
             }
         }
     }
 
-    // albedo() with a small grid at a few incident directions.
-    PairBuilder b(p, std::is_same<Real, float>::value);
-    for (const glm::dvec3& wl : {glm::dvec3(0, 0, 1), from_deg(60.0, 10.0), from_deg(89.9, 0.0),
-                                 grazing(1e-7, 30.0), glm::dvec3(kNaN, 0, 1)}) {
-        const vec3 wi = toReal(b.parent(wl));
-        const typename Node::Albedo a = node.albedo(wi, 8);
-        ++t.albedos;
-        auto at = [&] { return where(wi, nullptr, "albedo"); };
-        bool zero = true;
-        for (int c = 0; c < 3; ++c)
-            for (Real v : {a.surface[c], a.retro[c], a.diffuse[c]}) {
-                check_value(t, double(v), false, "albedo", at);
-                zero = zero && v == Real(0);
+    // albedo() with a small grid at a few incident directions: finite, non-negative, zero
+    // where the guards say so.
+    void albedos() {
+        const PairBuilder b(p_, std::is_same<Real, float>::value);
+        for (const glm::dvec3& wl : {glm::dvec3(0, 0, 1), from_deg(60.0, 10.0), from_deg(89.9, 0.0),
+                                     grazing(1e-7, 30.0), glm::dvec3(kNaN, 0, 1)}) {
+            const vec3 wi = to_real(b.parent(wl));
+            const typename Node::Albedo a = node_.albedo(wi, 8);
+            ++t_.albedos;
+            auto at = [&] { return where(wi, nullptr, "albedo"); };
+            bool zero = true;
+            for (int c = 0; c < 3; ++c)
+                for (Real v : {a.surface[c], a.retro[c], a.diffuse[c]}) {
+                    check_value(t_, double(v), false, "albedo", at);
+                    zero = zero && v == Real(0);
+                }
+            vec3 wiL;
+            if (!zero && !(weighted_ && valid(wi, wiL))) {
+                ++t_.guard;
+                t_.failure("guard: albedo not zero",
+                           "non-zero albedo where the guards require zero " + at());
             }
-        vec3 wiL;
-        if (!zero && !(weighted && valid(wi, wiL))) {
-            ++t.guard;
-            t.failure("guard: albedo not zero",
-                      "non-zero albedo where the guards require zero " + at());
         }
     }
+
+    const Params& p_;
+    const std::string& label_;
+    Tally& t_;
+    const Node node_;
+    const typename Core::material& m_;
+    const double frameUlps_;
+    const bool weighted_;
+};
+
+// True when a direction is zero or non-finite as a GL backend's floats see it.
+bool zero_direction(const Vec3d& w) {
+    return float(w[0]) == 0.0f && float(w[1]) == 0.0f && float(w[2]) == 0.0f;
+}
+bool non_finite_direction(const Vec3d& w) {
+    return !std::isfinite(float(w[0])) || !std::isfinite(float(w[1])) ||
+           !std::isfinite(float(w[2]));
 }
 
-// A GL backend (glsl, materialx) over one material, through answer_query (the materials and
-// directions go in unchecked: the JSON reader would reject most of them).
-// The pairs go in queries of `batch` pairs (all of them when 0): a GL backend lays a query
-// out over its work groups or render target by its size, and a fault may depend on the layout
-// (the materialx backend's render target, read back by MaterialX's environment lookups, did).
-void sweep_gl(const std::string& backend, const Params& p, const std::string& label,
+// A GL backend (glsl, materialx) over one material, through Backend::evaluate (the materials
+// and directions go in unchecked: the JSON reader would reject most of them).
+// The pairs go in batches of `batch` pairs (all of them when 0): a GL backend lays a batch out
+// over its work groups or render target by its size, and a fault may depend on the layout (the
+// materialx backend's render target, read back by MaterialX's environment lookups, did).
+void sweep_gl(Backend& gl, const Params& p, const std::string& label,
               const std::vector<DirectionPair>& pairs, size_t batch, Tally& t) {
-    json results = json::array();
+    std::vector<BackendResult> results;
     if (batch == 0) batch = pairs.size();
     for (size_t start = 0; start < pairs.size(); start += batch) {
-        Query q;
-        q.material = p;
-        q.samples.assign(pairs.begin() + long(start),
-                         pairs.begin() + long(std::min(pairs.size(), start + batch)));
-        const json answer = answer_query(q, backend);
-        for (const json& r : answer.at("results"))
+        const std::vector<DirectionPair> part(pairs.begin() + long(start),
+                                              pairs.begin() +
+                                                  long(std::min(pairs.size(), start + batch)));
+        for (const BackendResult& r : gl.evaluate(p, part))
             results.push_back(r);
     }
     if (results.size() != pairs.size())
-        throw std::runtime_error(backend + " answered " + std::to_string(results.size()) +
+        throw std::runtime_error(gl.name() + " answered " + std::to_string(results.size()) +
                                  " results for " + std::to_string(pairs.size()) + " pairs");
     ++t.materials;
-    const bool hasPdf = backend != "materialx";
+    // A MaterialX shader has no pdf (BackendResult::pdf is NaN).
+    const bool materialx = gl.name() == "materialx";
     for (size_t k = 0; k < pairs.size(); ++k) {
-        const json& r = results[k];
+        const BackendResult& r = results[k];
         ++t.evaluations;
         auto at = [&] {
             return "at wi = " + describe(pairs[k].wi) + ", wo = " + describe(pairs[k].wo) + " of " +
                    label + ": " + describe(p);
         };
-        bool nonzero = false; // a finite non-zero value (NaN and Inf are counted above)
-        auto number = [](const json& v) { return v.is_null() ? kNaN : v.get<double>(); };
-        for (const char* key : {"surface", "retro", "diffuse", "f"})
-            for (int c = 0; c < 3; ++c) {
-                const double v = number(r.at(key).at(size_t(c)));
+        bool nonzero = false; // a finite non-zero value (NaN and Inf are counted apart)
+        for (const std::array<double, 3>* rgb : {&r.surface, &r.retro, &r.diffuse, &r.f})
+            for (double v : *rgb) {
                 check_value(t, v, false, "the backend", at);
                 nonzero = nonzero || (std::isfinite(v) && v != 0.0);
             }
-        if (hasPdf) {
-            // The JSON answer writes a NaN pdf as null: null counts as NaN here.
-            const double v = number(r.at("pdf"));
-            check_value(t, v, false, "the backend (pdf)", at);
-            nonzero = nonzero || (std::isfinite(v) && v != 0.0);
+        if (!materialx) {
+            check_value(t, r.pdf, false, "the backend (pdf)", at);
+            nonzero = nonzero || (std::isfinite(r.pdf) && r.pdf != 0.0);
         }
-        // Zero and non-finite directions (as the backend's floats see them) give zero. The
-        // materialx backend is the exception for a zero wo: it places the eye at wo and shades
-        // the fragment at the origin, so a zero wo puts the eye on the fragment and the view
-        // direction MaterialX computes (normalize(eye - position), the position off the origin
-        // by its interpolation's rounding) is not wo: it is not an input the node sees.
-        auto zeroDir = [](const Vec3d& w) {
-            return float(w[0]) == 0.0f && float(w[1]) == 0.0f && float(w[2]) == 0.0f;
-        };
-        auto nonFinite = [](const Vec3d& w) {
-            return !std::isfinite(float(w[0])) || !std::isfinite(float(w[1])) ||
-                   !std::isfinite(float(w[2]));
-        };
-        const bool mustBeZero = zeroDir(pairs[k].wi) || nonFinite(pairs[k].wi) ||
-                                nonFinite(pairs[k].wo) ||
-                                (backend != "materialx" && zeroDir(pairs[k].wo));
+        // Zero and non-finite directions give zero. The materialx backend is the exception for
+        // a zero wo: it places the eye at wo and shades the fragment at the origin, so a zero wo
+        // puts the eye on the fragment and the view direction MaterialX computes
+        // (normalize(eye - position), the position off the origin by its interpolation's
+        // rounding) is not wo: it is not an input the node sees.
+        const bool mustBeZero = zero_direction(pairs[k].wi) || non_finite_direction(pairs[k].wi) ||
+                                non_finite_direction(pairs[k].wo) ||
+                                (!materialx && zero_direction(pairs[k].wo));
         if (nonzero) ++t.nonzero;
         if (nonzero && mustBeZero) {
             ++t.guard;
@@ -1061,27 +1036,15 @@ void sweep_gl(const std::string& backend, const Params& p, const std::string& la
 
 // ---- The sweep --------------------------------------------------------------------------
 
-bool float_inputs(const std::string& backend) {
-    return backend != "cpp-double";
+size_t pairs_per_material() {
+    static const size_t n = stress_pairs(Params(), true, 0).size();
+    return n;
 }
-
-std::uint64_t pair_seed(long material) {
-    return 0xC0FFEEull * 0x9E3779B97F4A7C15ull + std::uint64_t(material);
-}
-
-struct Options {
-    long cpp_evaluations = kCppEvaluations;
-    long gl_evaluations = kGlEvaluations;
-    int threads = 0; // 0: one per hardware thread
-    // Every pair_stride-th direction pair of each material (offset by the material's index):
-    // a smaller sweep over the same materials (the bounded test); 1 in the full sweep.
-    int pair_stride = 1;
-};
 
 // The pairs material `index` uses under the options.
 std::vector<DirectionPair> material_pairs(const Params& p, long index, bool floatInputs,
                                           const Options& opt) {
-    std::vector<DirectionPair> all = stress_pairs(p, floatInputs, pair_seed(index));
+    std::vector<DirectionPair> all = stress_pairs(p, floatInputs, std::uint64_t(index));
     if (opt.pair_stride <= 1) return all;
     std::vector<DirectionPair> out;
     for (size_t k = size_t(index % opt.pair_stride); k < all.size(); k += size_t(opt.pair_stride))
@@ -1089,142 +1052,63 @@ std::vector<DirectionPair> material_pairs(const Params& p, long index, bool floa
     return out;
 }
 
-Tally run_backend(const std::string& backend, const Options& opt) {
-    Tally total;
-    total.backend = backend;
-    const auto t0 = std::chrono::steady_clock::now();
-    const bool isCpp = backend == "cpp-double" || backend == "cpp-float";
-    const long target = isCpp ? opt.cpp_evaluations : opt.gl_evaluations;
-    if (isCpp) {
-        // Materials in parallel, each into its own tally, merged in order.
-        // Every material has the same number of pairs (at least perMaterial under a stride).
-        const size_t perMaterial =
-            stress_pairs(Params(), true, 0).size() / size_t(std::max(1, opt.pair_stride));
-        const long count = long((size_t(target) + perMaterial - 1) / perMaterial);
-        std::vector<Tally> parts(static_cast<size_t>(count));
-        std::atomic<long> nextIndex{0};
-        std::mutex errorMutex;
-        std::string error;
-        auto work = [&] {
-            for (long i; (i = nextIndex++) < count;) {
-                try {
-                    std::string label;
-                    const Params p = material(i, &label);
-                    const auto pairs = material_pairs(p, i, float_inputs(backend), opt);
-                    if (backend == "cpp-double")
-                        sweep_cpp<double>(p, label, pairs, pair_seed(i), parts[size_t(i)]);
-                    else
-                        sweep_cpp<float>(p, label, pairs, pair_seed(i), parts[size_t(i)]);
-                } catch (const std::exception& e) {
-                    std::lock_guard<std::mutex> lock(errorMutex);
-                    if (error.empty()) error = e.what();
-                }
-            }
-        };
-        const int n =
-            opt.threads > 0 ? opt.threads : int(std::max(1u, std::thread::hardware_concurrency()));
-        std::vector<std::thread> threads;
-        for (int k = 1; k < n; ++k)
-            threads.emplace_back(work);
-        work();
-        for (std::thread& th : threads)
-            th.join();
-        if (!error.empty()) throw std::runtime_error(error);
-        for (const Tally& part : parts)
-            total.add(part);
-    } else {
-        for (long i = 0; total.evaluations < target; ++i) {
+// A C++ backend: materials in parallel, each into its own tally, merged in order.
+template <class Real>
+Tally sweep_cpp(const Options& opt) {
+    const bool floatInputs = std::is_same<Real, float>::value;
+    // Every material has the same number of pairs (at least perMaterial under a stride).
+    const size_t perMaterial = pairs_per_material() / size_t(std::max(1, opt.pair_stride));
+    const size_t count = (size_t(opt.cpp_evaluations) + perMaterial - 1) / perMaterial;
+    std::vector<Tally> parts(count);
+    std::mutex errorMutex;
+    std::string error;
+    parallel_for(count, opt.threads, [&](size_t i) {
+        try {
             std::string label;
-            const Params p = material(i, &label);
-            // One query per material, or batches of 5, 61, 256 or 700 pairs, in turn.
-            const size_t batches[] = {0, 5, 61, 256, 700};
-            sweep_gl(backend, p, label, material_pairs(p, i, true, opt), batches[i % 5], total);
+            const Params p = material(long(i), &label);
+            Rng rng(kSampleSeed, i);
+            CppSweep<Real>(p, label, parts[i])
+                .run(material_pairs(p, long(i), floatInputs, opt), rng);
+        } catch (const std::exception& e) {
+            const std::lock_guard<std::mutex> lock(errorMutex);
+            if (error.empty()) error = e.what();
         }
-    }
-    total.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    });
+    if (!error.empty()) throw std::runtime_error(error);
+    Tally total;
+    for (const Tally& part : parts)
+        total.add(part);
     return total;
 }
 
-void print_header(FILE* out) {
-    std::fprintf(out, "%-11s %9s %12s %10s %8s %12s %7s %7s %8s %6s %12s %10s %8s  %s\n", "backend",
-                 "materials", "evaluations", "samples", "albedos", "values", "NaN", "Inf",
-                 "negative", "guard", "inconsistent", "round-trip", "seconds", "result");
-}
-
-void print_row(FILE* out, const Tally& t) {
-    const bool cpp = t.samples > 0;
-    auto opt = [&](long v) { return cpp ? std::to_string(v) : std::string("-"); };
-    std::fprintf(out, "%-11s %9ld %12ld %10s %8s %12ld %7ld %7ld %8ld %6ld %12s %10s %8.1f  %s\n",
-                 t.backend.c_str(), t.materials, t.evaluations, opt(t.samples).c_str(),
-                 opt(t.albedos).c_str(), t.values, t.nan, t.inf, t.negative, t.guard,
-                 opt(t.inconsistent).c_str(), opt(t.round_trip).c_str(), t.seconds,
-                 t.passed() ? "pass" : "FAIL");
-    std::fflush(out);
-}
-
-void print_notes(FILE* out, const std::vector<Tally>& tallies) {
-    for (const Tally& t : tallies) {
-        std::fprintf(out, "%s: %.1f%% of the evaluations have a non-zero value\n",
-                     t.backend.c_str(),
-                     t.evaluations ? 100.0 * double(t.nonzero) / double(t.evaluations) : 0.0);
-        if (t.round_trip > 0)
-            std::fprintf(out,
-                         "%s: %ld samples differ from eval(wi, s.wo) only through the frame's "
-                         "round trip (the local direction moved by up to %.3g ulp; up to %.3g "
-                         "relative); at the same local direction they agree\n",
-                         t.backend.c_str(), t.round_trip, t.round_trip_max_ulps,
-                         t.round_trip_max_rel);
-        if (t.oob_samples > 0)
-            std::fprintf(out,
-                         "%s: u outside [0, 1)^3 (clamped by sample()): %ld samples, %ld with a "
-                         "NaN, Inf or negative output (required: 0)\n",
-                         t.backend.c_str(), t.oob_samples, t.oob_bad);
-        for (const std::string& e : t.oob_examples)
-            std::fprintf(out, "  %s\n", e.c_str());
-        for (const auto& [cause, c] : t.causes) {
-            std::fprintf(out, "%s FAILURES (%ld): %s\n", t.backend.c_str(), c.count, cause.c_str());
-            for (const std::string& e : c.examples)
-                std::fprintf(out, "  %s\n", e.c_str());
-        }
+// A GL backend: materials in turn, one batch per material or batches of 5, 61, 256 or 700
+// pairs, in turn.
+Tally sweep_gl_backend(Backend& gl, const Options& opt) {
+    Tally total;
+    const size_t batches[] = {0, 5, 61, 256, 700};
+    for (long i = 0; total.evaluations < opt.gl_evaluations; ++i) {
+        std::string label;
+        const Params p = material(i, &label);
+        sweep_gl(gl, p, label, material_pairs(p, i, true, opt), batches[i % 5], total);
     }
+    return total;
 }
 
-int run(const std::vector<std::string>& backends, const Options& opt, FILE* out) {
-    const std::vector<std::string> known = backend_names();
-    for (const std::string& b : backends)
-        if (std::find(known.begin(), known.end(), b) == known.end()) {
-            std::string names;
-            for (const std::string& n : known)
-                names += (names.empty() ? "" : ", ") + n;
-            std::fprintf(stderr,
-                         "retroprism check --stress: unknown backend \"%s\" (backends: %s)\n",
-                         b.c_str(), names.c_str());
-            return 2;
-        }
-    const size_t perMaterial = stress_pairs(Params(), true, 0).size();
-    std::fprintf(out,
-                 "adversarial sweep: %zu direction pairs per material (%ld enum/boolean "
-                 "combinations, %zu single-input hard values, then random hard combinations); "
-                 "required: no NaN, Inf, negative value, guard violation or inconsistency\n",
-                 perMaterial, combination_count(), single_mutations().size());
-    print_header(out);
-    std::vector<Tally> tallies;
-    for (const std::string& b : backends) {
-        tallies.push_back(run_backend(b, opt));
-        print_row(out, tallies.back());
-    }
-    print_notes(out, tallies);
-    bool ok = true;
-    for (const Tally& t : tallies)
-        ok = ok && t.passed();
-    std::fprintf(out, "stress: %s\n", ok ? "pass" : "FAIL");
-    return ok ? 0 : 1;
+} // namespace
+
+Tally sweep_backend(const std::string& name, const Options& opt) {
+    const auto t0 = std::chrono::steady_clock::now();
+    Tally t = name == "cpp-double"  ? sweep_cpp<double>(opt)
+              : name == "cpp-float" ? sweep_cpp<float>(opt)
+                                    : sweep_gl_backend(backend(name), opt); // InputError if unknown
+    t.backend = name;
+    t.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return t;
+}
+
+Coverage coverage() {
+    return {pairs_per_material(), combination_count(), long(singles().size())};
 }
 
 } // namespace stress
-
-int run_stress(const std::vector<std::string>& backends) {
-    return stress::run(backends, stress::Options(), stdout);
-}
-
 } // namespace retroprism

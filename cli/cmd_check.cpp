@@ -11,6 +11,7 @@
 #include "commands.h"
 #include "error.h"
 #include "stress.h"
+#include "stress_table.h"
 
 namespace retroprism {
 
@@ -33,7 +34,12 @@ int cmd_check(int argc, const char** argv) {
             throw InputError("--backend " + only + ": unknown backend");
         backends = {only};
     }
-    if (ap["stress"].get<int>()) return run_stress(backends);
+    if (ap["stress"].get<int>()) {
+        StressTable table(stress::coverage(), stdout);
+        for (const std::string& b : backends)
+            table.add(stress::sweep_backend(b));
+        return table.finish() ? 0 : 1;
+    }
     const ToleranceContract contract;
     std::printf("tolerance contract: per value %.0e relative (floor %.0e of the lobe's peak, plus "
                 "%.0f ulps of input sensitivity), at most %.1f%% of samples above it, none above "

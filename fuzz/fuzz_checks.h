@@ -12,14 +12,16 @@
 //  - query: the bytes are a JSON document; parsing it either succeeds or throws one of
 //    nlohmann's exceptions (parse_error, or out_of_range for a number beyond a double); parse_query
 //    then either returns a query or throws an InputError naming the source; no other exception, no
-//    crash. A query that parses is answered by cpp-double and cpp-float (at most 64 samples), which
-//    must give finite non-negative values;
+//    crash. A query that parses is answered by the C++ node in double and in float, as the
+//    cpp-double and cpp-float backends answer it (evaluate_node, io/answer.h; at most 64
+//    samples), which must give finite non-negative values;
 //  - mtlx: the bytes are a MaterialX document; parse_mtlx either returns documents whose
 //    parameters are within the table's ranges or throws an InputError naming the file;
 //  - alta: the bytes are an ALTA file; parse_alta either returns samples within the
 //    documented ranges or throws an InputError naming the file.
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -33,9 +35,9 @@
 #include <nlohmann/json.hpp>
 
 #include "alta_reader.h"
+#include "answer.h"
 #include "mtlx_reader.h"
 #include "prismatic_retroreflector.h"
-#include "backend.h"
 #include "query.h"
 
 namespace rpfuzz {
@@ -194,7 +196,7 @@ inline double rel_diff(double a, double b) {
 
 template <class Real>
 constexpr double consistency_tolerance() {
-    return sizeof(Real) == 4 ? 1e-5 : 1e-12; // relative, float / double (issue 8)
+    return sizeof(Real) == 4 ? 1e-5 : 1e-12; // relative, float / double
 }
 
 // The closure entry points of one precision on inputs from the bytes.
@@ -333,6 +335,25 @@ inline bool names(const std::string& message, const std::string& source) {
     return message.find(source) != std::string::npos;
 }
 
+// A C++ node's answer to a query (every lobe, their sum and the pdf) finite and non-negative.
+inline void check_answer(const char* backend, const std::vector<retroprism::BackendResult>& answer,
+                         const nlohmann::json& query) {
+    auto text = [](const std::array<double, 3>& v) {
+        return "(" + hexfloat(v[0]) + ", " + hexfloat(v[1]) + ", " + hexfloat(v[2]) + ")";
+    };
+    for (const retroprism::BackendResult& r : answer) {
+        bool ok = ok_value(r.pdf);
+        for (const std::array<double, 3>* rgb : {&r.f, &r.surface, &r.retro, &r.diffuse})
+            for (double v : *rgb)
+                ok = ok && ok_value(v);
+        if (!ok)
+            throw Violation(std::string(backend) + " answered f " + text(r.f) + ", surface " +
+                            text(r.surface) + ", retro " + text(r.retro) + ", diffuse " +
+                            text(r.diffuse) + ", pdf " + hexfloat(r.pdf) + " to the query " +
+                            query.dump());
+    }
+}
+
 inline void check_query(const std::uint8_t* data, size_t size) {
     const std::string source = "fuzz_query.json";
     nlohmann::json j;
@@ -355,18 +376,8 @@ inline void check_query(const std::uint8_t* data, size_t size) {
         throw Violation(std::string("parse_query threw ") + typeid(e).name() + ": " + e.what());
     }
     if (q.samples.size() > 64) q.samples.resize(64);
-    for (const char* backend : {"cpp-double", "cpp-float"}) {
-        const nlohmann::json a = retroprism::answer_query(q, backend);
-        for (const nlohmann::json& r : a.at("results")) {
-            for (const char* key : {"f", "surface", "retro", "diffuse"})
-                for (const nlohmann::json& v : r.at(key))
-                    if (!v.is_number() || !ok_value(v.get<double>()))
-                        throw Violation(std::string(backend) + " answered " + r.dump() +
-                                        " to the query " + j.dump());
-            if (!r.at("pdf").is_number() || !ok_value(r.at("pdf").get<double>()))
-                throw Violation(std::string(backend) + " answered " + r.dump());
-        }
-    }
+    check_answer("cpp-double", retroprism::evaluate_node<double>(q.material, q.samples), j);
+    check_answer("cpp-float", retroprism::evaluate_node<float>(q.material, q.samples), j);
 }
 
 // Every value of a parameter set within its table range (the readers reject the others).

@@ -1,24 +1,32 @@
-// [stress]: reliability (issue 8).
-//  - A bounded version of the adversarial sweep of `retroprism check --stress` (cli/stress.cpp,
-//    compiled into this test): the same generator over every enum/boolean combination and every
-//    single-input hard value, on every seventh direction pair (every 13th for materialx), then
-//    random hard materials, through every backend (1e6, 1e6, 5e5 and 4e4 evaluations). Required:
-//    no NaN, Inf or negative value, no guard violation, no sample/pdf inconsistency.
+// [stress]: reliability.
+//  - A bounded version of the adversarial sweep of `retroprism check --stress`, through the
+//    library's API (backends/stress.h, linked from retroprism_backends) and printed by the
+//    command's printer (report/stress_table.h): the same generator over every enum/boolean
+//    combination and every single-input hard value, on every seventh direction pair (every
+//    13th for materialx), then random hard materials, through every backend (1e6, 1e6, 5e5 and
+//    9e4 evaluations). Required: no NaN, Inf or negative value, no guard violation, no
+//    sample/pdf inconsistency.
+//  - The generator itself (stress::material, stress::stress_pairs): it reaches the hard values
+//    and is deterministic.
 //  - The checked-in fuzz corpus (fuzz/corpus/<target>/) replayed through the fuzz targets'
-//    checks (fuzz/fuzz_checks.h), and the inputs the fuzzing and the sweep found, as
-//    regression tests.
+//    checks (fuzz/fuzz_checks.h, header-only), and the inputs the fuzzing and the sweep found,
+//    as regression tests.
 //  - The error paths of the sweep's command.
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
 #include <vector>
 
-#include "../backends/stress.cpp"
 #include "../fuzz/fuzz_checks.h"
+#include "backend.h"
+#include "stress.h"
+#include "stress_table.h"
 #include "test_support.h"
 
 using namespace retroprism;
@@ -43,16 +51,15 @@ stress::Tally bounded_sweep(const std::string& backend) {
     // materialx (about 3e4 evaluations per second on llvmpipe) on every 13th pair of the same
     // 434 materials alone.
     opt.pair_stride = backend == "materialx" ? 13 : 7;
-    const long materials = stress::combination_count() + long(stress::single_mutations().size());
-    const long perMaterial =
-        long(stress::stress_pairs(Params(), true, 0).size()) / opt.pair_stride + 1;
+    const long materials = stress::hard_material_count();
+    const long perMaterial = long(stress::coverage().pairs_per_material) / opt.pair_stride + 1;
     opt.cpp_evaluations = std::max(1000000L, materials * perMaterial);
     opt.gl_evaluations = backend == "materialx" ? materials * perMaterial
                                                 : std::max(500000L, materials * perMaterial);
-    const stress::Tally t = stress::run_backend(backend, opt);
-    stress::print_header(stdout);
-    stress::print_row(stdout, t);
-    stress::print_notes(stdout, {t});
+    const stress::Tally t = stress::sweep_backend(backend, opt);
+    StressTable table(stress::coverage(), stdout);
+    table.add(t);
+    table.finish();
     std::printf("MEASURED: stress %s: %ld materials, %ld evaluations, %ld samples, %ld albedos, "
                 "%ld values: %ld NaN, %ld Inf, %ld negative, %ld guard violations, %ld "
                 "inconsistent samples (%ld round-trip differences), %.1f s\n",
@@ -63,7 +70,7 @@ stress::Tally bounded_sweep(const std::string& backend) {
 
 void require_clean(const stress::Tally& t) {
     // Every enum/boolean combination and every single-input hard value went through.
-    CHECK(t.materials >= stress::combination_count() + long(stress::single_mutations().size()));
+    CHECK(t.materials >= stress::hard_material_count());
     CHECK(t.nonzero > t.evaluations / 4);
     CHECK(t.nan == 0);
     CHECK(t.inf == 0);
@@ -71,6 +78,7 @@ void require_clean(const stress::Tally& t) {
     CHECK(t.guard == 0);
     CHECK(t.inconsistent == 0);
     CHECK(t.oob_bad == 0);
+    CHECK(t.passed());
 }
 
 } // namespace
@@ -99,7 +107,8 @@ TEST_CASE("bounded adversarial sweep: materialx", "[stress]") {
 TEST_CASE("the sweep's generator covers the hard places", "[stress]") {
     // Every enum value and out-of-range index, every float input at its range ends, NaN and
     // Inf, in the materials the bounded sweep runs.
-    const long n = stress::combination_count() + long(stress::single_mutations().size());
+    const long n = stress::hard_material_count();
+    CHECK(n == stress::coverage().combinations + stress::coverage().single_mutations);
     bool nanRoughness = false, minAlpha = false, iorBelow1 = false, enumOut = false,
          nanNormal = false, negativeColor = false;
     for (long i = 0; i < n; ++i) {
@@ -117,10 +126,17 @@ TEST_CASE("the sweep's generator covers the hard places", "[stress]") {
     CHECK(enumOut);
     CHECK(nanNormal);
     CHECK(negativeColor);
+    // Labels name what each material is.
+    std::string label;
+    (void)stress::material(0, &label);
+    CHECK(label == "combination 0");
+    (void)stress::material(n, &label);
+    CHECK(label == "random material 0");
     // Pairs: wo = wi exactly and one ulp away, float ulps for float backends.
     const std::vector<DirectionPair> d = stress::stress_pairs(Params(), false, 1);
     const std::vector<DirectionPair> f = stress::stress_pairs(Params(), true, 1);
     REQUIRE(d.size() == f.size());
+    CHECK(d.size() == stress::coverage().pairs_per_material);
     CHECK(d[0].wi == d[0].wo);
     CHECK(f[1].wo[0] == double(std::nextafter(float(f[1].wi[0]), -INFINITY)));
     CHECK(d[1].wo[0] == std::nextafter(d[1].wi[0], -INFINITY));
@@ -135,7 +151,14 @@ TEST_CASE("check --stress rejects an unknown backend", "[stress]") {
     CHECK(contains(r.output, "no-such-backend"));
     CHECK(contains(r.output, "unknown backend"));
     // The sweep itself names the backend and lists the known ones.
-    CHECK(stress::run({"cpp-double", "nope"}, stress::Options(), stdout) == 2);
+    try {
+        (void)stress::sweep_backend("nope");
+        FAIL("sweep_backend accepted an unknown backend");
+    } catch (const InputError& e) {
+        CHECK(contains(e.what(), "nope"));
+        for (const std::string& name : backend_names())
+            CHECK(contains(e.what(), name));
+    }
 }
 
 TEST_CASE("the fuzz corpus replays cleanly", "[stress]") {
