@@ -10,6 +10,7 @@
 #include <OpenImageIO/argparse.h>
 
 #include "color.h"
+#include "display.h"
 #include "commands.h"
 #include "error.h"
 #include "night_output.h"

@@ -8,7 +8,7 @@
 
 #include <OpenImageIO/imagebuf.h>
 
-#include "color.h"
+#include "display.h"
 #include "query.h"
 
 namespace fs = std::filesystem;
