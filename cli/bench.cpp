@@ -25,8 +25,10 @@
 #include "benchmarks.h"
 #include "check.h"
 #include "commands.h"
+#include "embedded_files.h"
 #include "gl_runner.h"
 #include "glsl_gen.h"
+#include "paths.h"
 #include "plot.h"
 #include "query.h"
 
@@ -245,7 +247,7 @@ void simulator_errors(const bench::Row& row, const std::vector<SimConfig>& study
 
 // The GLSL variants' relative cost: SPIR-V instructions after optimisation, and evaluations per
 // second on this machine's OpenGL (llvmpipe without a GPU), excluding shader compilation.
-void glsl_costs(const std::string& sourceDir, bool json) {
+void glsl_costs(bool json) {
     const int n = 100000;
     std::vector<std::array<Vec3d, 2>> pairs;
     for (int i = 0; i < n; ++i) {
@@ -259,7 +261,7 @@ void glsl_costs(const std::string& sourceDir, bool json) {
     if (!json)
         std::printf("\n%-52s %14s %16s\n", "GLSL variant", "SPIR-V instr.", "llvmpipe eval/s");
     for (const glsl::Variant& v : glsl::standard_variants()) {
-        const std::string lib = glsl::generate_library(v, sourceDir);
+        const std::string lib = embedded_variant(v.name);
         const long instr = glsl::spirv_instructions(lib, v.name);
         gl::Runner runner(lib);
         Params p;
@@ -422,8 +424,7 @@ int cmd_bench(int argc, const char** argv) {
     Collector collector;
     benchmark::RunSpecifiedBenchmarks(&collector);
 
-    const std::vector<SimConfig> study =
-        read_study(std::string(RP_SOURCE_DIR_CLI) + "/docs/accuracy/results.csv");
+    const std::vector<SimConfig> study = read_study(data_path("docs/accuracy/results.csv"));
     std::vector<Result> results;
     double mrm = 0;
     for (const bench::Row& r : rows) {
@@ -505,7 +506,7 @@ int cmd_bench(int argc, const char** argv) {
     }
     const std::string plotPath = ap["plot"].get<std::string>();
     if (!plotPath.empty()) write_plot(results, plotPath);
-    if (ap["glsl"].get<int>()) glsl_costs(RP_SOURCE_DIR_CLI, ap["json"].get<int>() != 0);
+    if (ap["glsl"].get<int>()) glsl_costs(ap["json"].get<int>() != 0);
     return 0;
 }
 
