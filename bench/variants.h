@@ -1,6 +1,6 @@
-// variants.h: generated C++ variants of the core (nodes/generated/cpp/, written by glsl_gen from
-// the same regions as the GLSL variants), each in a float namespace of its own: lobes and modes
-// fixed at compile time, the code they leave out absent.
+// variants.h: generated C++ variants of the core (cpp/<variant>.inc, written at build time by
+// retroprism_glsl_gen --out from the same regions as the GLSL variants), each in a float
+// namespace of its own: lobes and modes fixed at compile time, the code they leave out absent.
 #pragma once
 
 #include "prism_core.h"
@@ -24,7 +24,7 @@ RP_VARIANT_F32_PRELUDE
 #include "prism_special.inc"
 RP_ERFINV_REFINED(1)
 #include "generated/prism_tables.inc"
-#include "generated/cpp/prismatic_retroreflector_retro.inc"
+#include "cpp/prismatic_retroreflector_retro.inc"
 } // namespace retro_f32
 
 namespace retro_diffuse_f32 {
@@ -32,7 +32,7 @@ RP_VARIANT_F32_PRELUDE
 #include "prism_special.inc"
 RP_ERFINV_REFINED(1)
 #include "generated/prism_tables.inc"
-#include "generated/cpp/prismatic_retroreflector_retro_diffuse.inc"
+#include "cpp/prismatic_retroreflector_retro_diffuse.inc"
 } // namespace retro_diffuse_f32
 
 namespace averaged_ideal_f32 {
@@ -40,7 +40,7 @@ RP_VARIANT_F32_PRELUDE
 #include "prism_special.inc"
 RP_ERFINV_REFINED(1)
 #include "generated/prism_tables.inc"
-#include "generated/cpp/prismatic_retroreflector_averaged_ideal.inc"
+#include "cpp/prismatic_retroreflector_averaged_ideal.inc"
 } // namespace averaged_ideal_f32
 
 namespace averaged_ideal_fast_f32 {
@@ -48,7 +48,7 @@ RP_VARIANT_F32_PRELUDE
 #include "prism_special.inc"
 RP_ERFINV_REFINED(1)
 #include "generated/prism_tables.inc"
-#include "generated/cpp/prismatic_retroreflector_averaged_ideal_fast.inc"
+#include "cpp/prismatic_retroreflector_averaged_ideal_fast.inc"
 } // namespace averaged_ideal_fast_f32
 
 namespace averaged_tir_f32 {
@@ -56,7 +56,7 @@ RP_VARIANT_F32_PRELUDE
 #include "prism_special.inc"
 RP_ERFINV_REFINED(1)
 #include "generated/prism_tables.inc"
-#include "generated/cpp/prismatic_retroreflector_averaged_tir.inc"
+#include "cpp/prismatic_retroreflector_averaged_tir.inc"
 } // namespace averaged_tir_f32
 
 namespace averaged_tir_fast_f32 {
@@ -64,7 +64,7 @@ RP_VARIANT_F32_PRELUDE
 #include "prism_special.inc"
 RP_ERFINV_REFINED(1)
 #include "generated/prism_tables.inc"
-#include "generated/cpp/prismatic_retroreflector_averaged_tir_fast.inc"
+#include "cpp/prismatic_retroreflector_averaged_tir_fast.inc"
 } // namespace averaged_tir_fast_f32
 
 } // namespace retroprism::variants

@@ -26,6 +26,7 @@
 #include "check.h"
 #include "commands.h"
 #include "cost_error_plot.h"
+#include "embedded_files.h"
 #include "gl_runner.h"
 #include "glsl_gen.h"
 #include "paths.h"
@@ -200,7 +201,7 @@ void simulator_errors(const bench::Row& row, const std::vector<SimConfig>& study
 
 // The GLSL variants' relative cost: SPIR-V instructions after optimisation, and evaluations per
 // second on this machine's OpenGL (llvmpipe without a GPU), excluding shader compilation.
-void glsl_costs(const std::string& sourceDir, bool json) {
+void glsl_costs(bool json) {
     const int n = 100000;
     std::vector<std::array<Vec3d, 2>> pairs;
     for (int i = 0; i < n; ++i) {
@@ -214,7 +215,7 @@ void glsl_costs(const std::string& sourceDir, bool json) {
     if (!json)
         std::printf("\n%-52s %14s %16s\n", "GLSL variant", "SPIR-V instr.", "llvmpipe eval/s");
     for (const glsl::Variant& v : glsl::standard_variants()) {
-        const std::string lib = glsl::generate_library(v, sourceDir);
+        const std::string lib = embedded_variant(v.name);
         const long instr = glsl::spirv_instructions(lib, v.name);
         gl::Runner runner(lib);
         Params p;
@@ -377,7 +378,7 @@ int cmd_bench(int argc, const char** argv) {
     }
     const std::string plotPath = ap["plot"].get<std::string>();
     if (!plotPath.empty()) write_plot(results, plotPath);
-    if (ap["glsl"].get<int>()) glsl_costs(RP_SOURCE_DIR_CLI, ap["json"].get<int>() != 0);
+    if (ap["glsl"].get<int>()) glsl_costs(ap["json"].get<int>() != 0);
     return 0;
 }
 

@@ -102,7 +102,7 @@ double fidelity_error(const Params& p) {
 // The cheapest generated variant for a document's material whose error stays within maxError:
 // variants that fix a mode the material does not use, or leave out a lobe it has, are out;
 // the fast tier's error is measured for the material; cost is the SPIR-V instruction count.
-std::string choose_variant(const Params& given, double maxError, const std::string& sourceDir) {
+std::string choose_variant(const Params& given, double maxError) {
     const Params p = sanitize(given);
     const bool hasSurface = p.specular > 0 && p.weight > 0;
     const bool hasRetro =
@@ -125,7 +125,7 @@ std::string choose_variant(const Params& given, double maxError, const std::stri
         const int fidelity = v.fidelity >= 0 ? v.fidelity : p.fidelity;
         const double error = fidelity == 1 ? fastError : 0.0;
         if (fidelity != p.fidelity && error > maxError) continue;
-        const long cost = glsl::spirv_instructions(glsl::generate_library(v, sourceDir), v.name);
+        const long cost = glsl::spirv_instructions(embedded_variant(v.name), v.name);
         std::printf("  candidate %-50s SPIR-V %6ld  error %.3g\n", v.name.c_str(), cost, error);
         if (cost > 0 && (bestCost < 0 || cost < bestCost)) {
             bestCost = cost;
@@ -164,15 +164,7 @@ int cmd_export(int argc, const char** argv) {
         throw InputError("--out " + out + ": cannot create the folder (" + ec.message() + ")");
     int written = 0;
     for (const EmbeddedFile& f : embedded_files()) {
-        const std::string rel = f.path;
-        fs::path target;
-        if (rel.rfind("materialx/", 0) == 0)
-            target = dir / rel.substr(10);
-        else if (rel.rfind("glsl_gen/generated/", 0) == 0)
-            target = dir / "glsl" / rel.substr(19);
-        else
-            continue;
-        write_file(target, f.text);
+        write_file(dir / f.path, f.text);
         ++written;
     }
     const std::string document = ap["document"].get<std::string>();
@@ -184,10 +176,8 @@ int cmd_export(int argc, const char** argv) {
             throw InputError("--max-error " + me + ": expected a relative error in [0, 1]");
         const MtlxDocument doc = read_mtlx(document);
         const MtlxMaterial& m = select_material(doc, ap["material"].get<std::string>());
-        const std::string chosen = choose_variant(m.params, maxError, RP_SOURCE_DIR_CLI);
-        for (const EmbeddedFile& f : embedded_files())
-            if (std::string(f.path) == "glsl_gen/generated/" + chosen + ".glsl")
-                write_file(dir / "glsl" / ("selected_" + m.name + ".glsl"), f.text);
+        const std::string chosen = choose_variant(m.params, maxError);
+        write_file(dir / "glsl" / ("selected_" + m.name + ".glsl"), embedded_variant(chosen));
         ++written;
     }
     write_file(dir / "README.md", kReadme);

@@ -1,5 +1,6 @@
-// embedded_files.h: the generated files `retroprism export` writes (the MaterialX library under
-// materialx/rp_pbrlib and the GLSL variants under glsl_gen/generated), embedded at build time.
+// embedded_files.h: the generated files `retroprism export` writes, embedded at build time
+// (retroprism_glsl_gen --out): the MaterialX library under rp_pbrlib/ and each standard GLSL
+// variant as glsl/<variant>.glsl.
 #pragma once
 
 #include <string>
@@ -8,10 +9,14 @@
 namespace retroprism {
 
 struct EmbeddedFile {
-    const char* path; // relative to the project root
+    const char* path; // relative to the folder `retroprism export` writes
     const char* text;
 };
 
 const std::vector<EmbeddedFile>& embedded_files();
+
+// The GLSL library of the standard variant `name` (glsl/<name>.glsl); std::runtime_error when
+// no such variant is embedded.
+std::string embedded_variant(const std::string& name);
 
 } // namespace retroprism

@@ -20,12 +20,12 @@ struct Variant {
     int era_mode = -1;         // -1: chosen at run time by the era_mode input
     int prism_reflection = -1; // -1: chosen at run time by the prism_reflection input
     int fidelity = -1;         // -1: chosen at run time by the fidelity input
-    bool cpp = false;          // also generated as C++ (nodes/generated/cpp/<name>.inc)
+    bool cpp = false;          // also generated as C++ (cpp/<name>.inc in the build tree)
     std::string describe() const;
 };
 
-// The full runtime variant (`prismatic_retroreflector`) first, then the specialised ones that
-// are generated and checked in under glsl_gen/generated/.
+// The full runtime variant (`prismatic_retroreflector`) first, then the specialised ones. The
+// build generates each (retroprism_glsl_gen --out) and embeds them (embedded_files.h).
 std::vector<Variant> standard_variants();
 
 // The features a variant keeps (the names used by "// @rp-if" regions in the core).

@@ -1,4 +1,4 @@
-// [glsl]: the generated GLSL is what glsl_gen makes of the core today, compiles for every
+// [glsl]: the embedded GLSL is what glsl_gen makes of the core today, compiles for every
 // target, and each specialised variant computes what the C++ reference computes.
 #include <catch2/catch.hpp>
 
@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "check.h"
+#include "embedded_files.h"
 #include "gl_runner.h"
 #include "glsl_gen.h"
 
@@ -19,13 +20,6 @@ using namespace retroprism;
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string read(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
 
 int run_status(const std::string& cmd, std::string* output = nullptr) {
     FILE* p = popen((cmd + " 2>&1").c_str(), "r");
@@ -42,16 +36,15 @@ int run_status(const std::string& cmd, std::string* output = nullptr) {
 
 } // namespace
 
-TEST_CASE("The checked-in GLSL is what glsl_gen generates", "[glsl]") {
+TEST_CASE("The embedded GLSL is what glsl_gen generates", "[glsl]") {
     for (const glsl::Variant& v : glsl::standard_variants()) {
         INFO(v.name);
-        const fs::path file =
-            fs::path(RP_SOURCE_DIR) / "glsl_gen" / "generated" / (v.name + ".glsl");
-        CHECK(read(file) == glsl::generate_library(v, RP_SOURCE_DIR));
+        CHECK(embedded_variant(v.name) == glsl::generate_library(v, RP_SOURCE_DIR));
     }
-    // The binary's embedded copy is the full variant.
-    CHECK(gl::embedded_library() == read(fs::path(RP_SOURCE_DIR) / "glsl_gen" / "generated" /
-                                         "prismatic_retroreflector.glsl"));
+    // The glsl backend's library is the full variant.
+    CHECK(gl::embedded_library() ==
+          glsl::generate_library(glsl::standard_variants().front(), RP_SOURCE_DIR));
+    CHECK_THROWS(embedded_variant("no_such_variant"));
 }
 
 TEST_CASE("Specialised variants leave out the code they do not use", "[glsl]") {
