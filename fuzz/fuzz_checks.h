@@ -1,5 +1,5 @@
 // fuzz_checks.h: the properties the fuzz targets check, shared by the libFuzzer targets
-// (fuzz/fuzz_*.cpp) and by tests/test_stress.cpp, which replays the checked-in corpus
+// (fuzz/fuzz_*.cpp) and by tests/backends/test_stress.cpp, which replays the checked-in corpus
 // (fuzz/corpus/<target>/) and the crashes found through the same functions.
 //
 // Each check takes arbitrary bytes and throws rpfuzz::Violation when a property fails; the

@@ -608,7 +608,7 @@ std::string materialx_closure(const MaterialxInputs& in) {
            "// INDIRECT: environment light approximated per lobe from the lobe albedo "
            "estimates of\n"
            "// rp_estimates_at (their error against the exact albedo is measured by\n"
-           "// tests/test_physics.cpp): the surface lobe by MaterialX's pre-integrated GGX\n"
+           "// tests/nodes/test_physics.cpp): the surface lobe by MaterialX's pre-integrated GGX\n"
            "// environment radiance at roughness alpha (Beckmann and GGX lobes of equal alpha\n"
            "// are alike near their peak), the retro lobe by the environment radiance around V,\n"
            "// the direction the light came from (a GGX lobe about N = V of alpha_o / 2: a\n"

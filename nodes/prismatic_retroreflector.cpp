@@ -139,7 +139,7 @@ double fdr_external(double eta) {
         return integrate_adaptive(f, 0.0, 1.0, 1e-14);
     }
     // Exact integral of the unpolarised Fresnel reflectance (verified against quadrature to
-    // 2e-10 relative for eta in [1.01, 3] by tests/test_physics.cpp).
+    // 2e-10 relative for eta in [1.01, 3] by tests/nodes/test_physics.cpp).
     const double n2 = n * n, n4 = n2 * n2;
     return 0.5 + (n - 1) * (3 * n + 1) / (6 * (n + 1) * (n + 1)) +
            n2 * (n2 - 1) * (n2 - 1) / ((n2 + 1) * (n2 + 1) * (n2 + 1)) *

@@ -23,7 +23,7 @@
 #include <string>
 #include <vector>
 
-#include "../fuzz/fuzz_checks.h"
+#include "../../fuzz/fuzz_checks.h"
 #include "backend.h"
 #include "stress.h"
 #include "stress_table.h"
