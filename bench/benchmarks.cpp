@@ -14,29 +14,17 @@ namespace retroprism::bench {
 
 namespace {
 
-// A core namespace as a type: its material preparation, eval and sample.
+// A core namespace as a type: its functions (RP_CORE_MEMBERS) and its material preparation.
 #define RP_ADAPTER(NAME, NS)                                                                       \
     struct NAME {                                                                                  \
         using real = NS::real;                                                                     \
-        using vec3 = NS::vec3;                                                                     \
-        using material = NS::rp_material;                                                          \
-        using lobes = NS::rp_lobes;                                                                \
+        RP_CORE_MEMBERS(NS)                                                                        \
         static material prepare(const Params& p) {                                                 \
             return NS::rp_prepare(                                                                 \
                 real(p.weight), vec3(p.diffuse_color[0], p.diffuse_color[1], p.diffuse_color[2]),  \
                 vec3(p.retro_color[0], p.retro_color[1], p.retro_color[2]), real(p.specular),      \
                 real(p.roughness), real(p.ior), p.prism_reflection, real(p.metal_reflectance),     \
                 p.era_mode, real(p.orientation), p.retro_lobe, p.reciprocal ? 1 : 0, p.fidelity);  \
-        }                                                                                          \
-        static bool eval(const material& m, vec3 wi, vec3 wo, lobes& r, real& pdf) {               \
-            return NS::rp_eval(m, wi, wo, r, pdf);                                                 \
-        }                                                                                          \
-        static bool eval_f(const material& m, vec3 wi, vec3 wo, lobes& r) {                        \
-            return NS::rp_eval_f(m, wi, wo, r);                                                    \
-        }                                                                                          \
-        static bool sample(const material& m, vec3 wi, vec3 u, vec3& wo, lobes& r, real& pdf,      \
-                           int& lobe) {                                                            \
-            return NS::rp_sample(m, wi, u, wo, r, pdf, lobe);                                      \
         }                                                                                          \
     };
 

@@ -1,6 +1,10 @@
 #include "args.h"
 
 #include <cstdio>
+#include <cstring>
+
+#include "error.h"
+#include "parse.h"
 
 namespace retroprism {
 
@@ -14,6 +18,25 @@ bool parse_command_args(OIIO::ArgParse& ap, int argc, const char** argv, int& st
     if (ap.aborted() || ap["help"].get<int>()) {
         status = 0;
         return false;
+    }
+    return true;
+}
+
+bool parse_args_with_theta_i(OIIO::ArgParse& ap, int argc, const char** argv,
+                             std::vector<double>& thetaI, int& status) {
+    // --theta-i takes every value that follows it: they are parsed as positional arguments.
+    std::vector<std::string> values;
+    ap.arg("thetas").hidden().action([&](OIIO::cspan<const char*> a) { values.push_back(a[0]); });
+    std::vector<const char*> args;
+    for (int i = 0; i < argc; ++i)
+        if (std::strcmp(argv[i], "--theta-i") != 0) args.push_back(argv[i]);
+    if (!parse_command_args(ap, int(args.size()), args.data(), status)) return false;
+    if (values.empty()) throw InputError(std::string(argv[0]) + ": --theta-i DEG... is required");
+    thetaI.clear();
+    for (const std::string& s : values) {
+        const double t = parse_number(s, "--theta-i");
+        if (t < 0 || t >= 90) throw InputError("--theta-i " + s + ": must be in [0, 90) degrees");
+        thetaI.push_back(t);
     }
     return true;
 }

@@ -18,27 +18,14 @@ int cmd_albedo(int argc, const char** argv) {
     OIIO::ArgParse ap;
     ap.intro("retroprism albedo: directional albedo (integral of f cos theta_o) per lobe")
         .usage("retroprism albedo [--material FILE.json] --theta-i DEG...");
-    std::vector<std::string> thetas;
     ap.arg("--material FILE").help("node inputs as a JSON object (default: all defaults)");
     ap.arg("--theta-i DEG...").help("incident polar angles in degrees, [0, 90)");
-    ap.arg("thetas").hidden().action([&](OIIO::cspan<const char*> a) { thetas.push_back(a[0]); });
-    // --theta-i takes every number that follows it: turn it into positional arguments.
-    std::vector<const char*> args;
-    for (int i = 0; i < argc; ++i)
-        if (std::strcmp(argv[i], "--theta-i") != 0) args.push_back(argv[i]);
+    std::vector<double> angles;
     int status = 0;
-    if (!parse_command_args(ap, int(args.size()), args.data(), status)) return status;
-    if (thetas.empty()) throw InputError("albedo: --theta-i DEG... is required");
+    if (!parse_args_with_theta_i(ap, argc, argv, angles, status)) return status;
     Params p;
     std::string file = ap["material"].get<std::string>();
     if (!file.empty()) p = params_from_json(read_json(file), file);
-    std::vector<double> angles;
-    for (const std::string& s : thetas) {
-        double thetaI = parse_number(s, "--theta-i");
-        if (thetaI < 0 || thetaI >= 90)
-            throw InputError("--theta-i " + s + ": must be in [0, 90) degrees");
-        angles.push_back(thetaI);
-    }
     PrismaticRetroreflector<double> node(p);
     std::printf("%10s %12s %12s %12s %12s\n", "theta_i", "surface", "retro", "diffuse", "total");
     for (double thetaI : angles) {

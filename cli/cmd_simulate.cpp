@@ -189,7 +189,6 @@ int cmd_simulate(int argc, const char** argv) {
              "--study --help` describes the accuracy study.")
         .usage("retroprism simulate [--material FILE.json] --theta-i DEG... [--phi-i DEG] "
                "[--rays N] [--seed S] [--threads T] [--way-up prisms|direct] [--out PREFIX]");
-    std::vector<std::string> thetas;
     ap.arg("--material FILE").help("node inputs as a JSON object (default: all defaults)");
     ap.arg("--theta-i DEG...").help("incident polar angles in degrees, [0, 90)");
     ap.arg("--phi-i DEG")
@@ -207,23 +206,12 @@ int cmd_simulate(int argc, const char** argv) {
               "down, reciprocal; default) or direct (the paper's assumption)")
         .defaultval("prisms");
     ap.arg("--out PREFIX").help("output prefix (default simulate)").defaultval("simulate");
-    ap.arg("thetas").hidden().action([&](OIIO::cspan<const char*> a) { thetas.push_back(a[0]); });
-    // --theta-i takes any number of values: they are parsed as the positional arguments.
-    std::vector<const char*> args;
-    for (int i = 0; i < argc; ++i)
-        if (std::strcmp(argv[i], "--theta-i") != 0) args.push_back(argv[i]);
+    std::vector<double> angles;
     int status = 0;
-    if (!parse_command_args(ap, int(args.size()), args.data(), status)) return status;
-    if (thetas.empty()) throw InputError("simulate: --theta-i DEG... is required");
+    if (!parse_args_with_theta_i(ap, argc, argv, angles, status)) return status;
     Params p;
     const std::string file = ap["material"].get<std::string>();
     if (!file.empty()) p = params_from_json(read_json(file), file);
-    std::vector<double> angles;
-    for (const std::string& s : thetas) {
-        const double t = parse_number(s, "--theta-i");
-        if (t < 0 || t >= 90) throw InputError("--theta-i " + s + ": must be in [0, 90) degrees");
-        angles.push_back(t);
-    }
     const double phi = parse_number(ap["phi_i"].get<std::string>(), "--phi-i");
     sim::TableOptions o;
     o.rays = parse_count(ap["rays"].get<std::string>(), "--rays", 1, 1e12);

@@ -99,41 +99,46 @@ RP_ERFINV_REFINED(2)
 // The core of a given precision as one type: core<float> forwards to f32, core<double> to f64.
 template <class Real>
 struct core;
+// The core functions of namespace NS (f32, f64 or a generated variant's) as static members of
+// a struct: the body of a type that stands for that core.
+#define RP_CORE_MEMBERS(NS)                                                                        \
+    using vec2 = NS::vec2;                                                                         \
+    using vec3 = NS::vec3;                                                                         \
+    using material = NS::rp_material;                                                              \
+    using lobes = NS::rp_lobes;                                                                    \
+    using incident = NS::rp_incident;                                                              \
+    static bool eval(const material& m, vec3 wi, vec3 wo, lobes& r, real& pdf) {                   \
+        return NS::rp_eval(m, wi, wo, r, pdf);                                                     \
+    }                                                                                              \
+    static bool eval_f(const material& m, vec3 wi, vec3 wo, lobes& r) {                            \
+        return NS::rp_eval_f(m, wi, wo, r);                                                        \
+    }                                                                                              \
+    static bool sample(const material& m, vec3 wi, vec3 u, vec3& wo, lobes& r, real& pdf,          \
+                       int& lobe) {                                                                \
+        return NS::rp_sample(m, wi, u, wo, r, pdf, lobe);                                          \
+    }                                                                                              \
+    static void setup(const material& m, vec3 wi, incident& s) {                                   \
+        NS::rp_incident_setup(m, wi, s);                                                           \
+    }                                                                                              \
+    static void eval_lobes(const material& m, const incident& s, vec3 wi, vec3 wo, lobes& r) {     \
+        NS::rp_eval_lobes(m, s, wi, wo, r);                                                        \
+    }                                                                                              \
+    static vec3 lobe_sample(const material& m, const incident& s, vec3 wi, int lobe, real u1,      \
+                            real u2) {                                                             \
+        return NS::rp_lobe_sample(m, s, wi, lobe, u1, u2);                                         \
+    }                                                                                              \
+    static real lobe_pdf(const material& m, const incident& s, vec3 wi, vec3 wo, int lobe) {       \
+        return NS::rp_lobe_pdf(m, s, wi, wo, lobe);                                                \
+    }                                                                                              \
+    static bool to_local(vec3 n, vec3 t, vec3 b, vec3 w, vec3& local) {                            \
+        return NS::rp_to_local(n, t, b, w, local);                                                 \
+    }
+
 #define RP_CORE_DISPATCH(REAL, NS)                                                                 \
     template <>                                                                                    \
     struct core<REAL> {                                                                            \
         using real = REAL;                                                                         \
-        using vec2 = NS::vec2;                                                                     \
-        using vec3 = NS::vec3;                                                                     \
-        using material = NS::rp_material;                                                          \
-        using lobes = NS::rp_lobes;                                                                \
-        using incident = NS::rp_incident;                                                          \
-        static bool eval(const material& m, vec3 wi, vec3 wo, lobes& r, real& pdf) {               \
-            return NS::rp_eval(m, wi, wo, r, pdf);                                                 \
-        }                                                                                          \
-        static bool eval_f(const material& m, vec3 wi, vec3 wo, lobes& r) {                        \
-            return NS::rp_eval_f(m, wi, wo, r);                                                    \
-        }                                                                                          \
-        static bool sample(const material& m, vec3 wi, vec3 u, vec3& wo, lobes& r, real& pdf,      \
-                           int& lobe) {                                                            \
-            return NS::rp_sample(m, wi, u, wo, r, pdf, lobe);                                      \
-        }                                                                                          \
-        static void setup(const material& m, vec3 wi, incident& s) {                               \
-            NS::rp_incident_setup(m, wi, s);                                                       \
-        }                                                                                          \
-        static void eval_lobes(const material& m, const incident& s, vec3 wi, vec3 wo, lobes& r) { \
-            NS::rp_eval_lobes(m, s, wi, wo, r);                                                    \
-        }                                                                                          \
-        static vec3 lobe_sample(const material& m, const incident& s, vec3 wi, int lobe, real u1,  \
-                                real u2) {                                                         \
-            return NS::rp_lobe_sample(m, s, wi, lobe, u1, u2);                                     \
-        }                                                                                          \
-        static real lobe_pdf(const material& m, const incident& s, vec3 wi, vec3 wo, int lobe) {   \
-            return NS::rp_lobe_pdf(m, s, wi, wo, lobe);                                            \
-        }                                                                                          \
-        static bool to_local(vec3 n, vec3 t, vec3 b, vec3 w, vec3& local) {                        \
-            return NS::rp_to_local(n, t, b, w, local);                                             \
-        }                                                                                          \
+        RP_CORE_MEMBERS(NS)                                                                        \
     };
 RP_CORE_DISPATCH(float, f32)
 RP_CORE_DISPATCH(double, f64)

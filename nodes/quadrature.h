@@ -6,10 +6,14 @@
 
 namespace retroprism {
 
-// Integrates f over [a, b] to an absolute error estimate below tol: each interval whose
-// |K15 - G7| exceeds its share of tol is halved, down to max_depth levels.
+// One Gauss-Kronrod 7/15 panel over [a, b] (15 evaluations of f): the Kronrod estimate and
+// the embedded 7-point Gauss one; |kronrod - gauss| estimates the panel's error.
+struct GkPanel {
+    double kronrod = 0;
+    double gauss = 0;
+};
 template <class F>
-double integrate_adaptive(const F& f, double a, double b, double tol = 1e-12, int max_depth = 30) {
+GkPanel gauss_kronrod_15(const F& f, double a, double b) {
     static const double xk[8] = {0.991455371120812639, 0.949107912342758525, 0.864864423359769073,
                                  0.741531185599394440, 0.586087235467691130, 0.405845151377397167,
                                  0.207784955007898468, 0.000000000000000000};
@@ -18,26 +22,32 @@ double integrate_adaptive(const F& f, double a, double b, double tol = 1e-12, in
                                  0.204432940075298892, 0.209482141084727828};
     static const double wg[4] = {0.129484966168869693, 0.279705391489276668, 0.381830050505118945,
                                  0.417959183673469388};
+    const double c = 0.5 * (a + b), h = 0.5 * (b - a);
+    const double fc = f(c);
+    double k = wk[7] * fc, g = wg[3] * fc;
+    for (int j = 0; j < 7; ++j) {
+        const double f1 = f(c - h * xk[j]), f2 = f(c + h * xk[j]);
+        k += wk[j] * (f1 + f2);
+        if (j % 2 == 1) g += wg[j / 2] * (f1 + f2);
+    }
+    return {k * h, g * h};
+}
+
+// Integrates f over [a, b] to an absolute error estimate below tol: each interval whose
+// |K15 - G7| exceeds its share of tol is halved, down to max_depth levels.
+template <class F>
+double integrate_adaptive(const F& f, double a, double b, double tol = 1e-12, int max_depth = 30) {
     struct Rec {
         const F& f;
-        double tol0;
         int maxd;
         double run(double lo, double hi, double tol, int depth) const {
-            double c = 0.5 * (lo + hi), h = 0.5 * (hi - lo);
-            double fc = f(c);
-            double k = wk[7] * fc, g = wg[3] * fc;
-            for (int j = 0; j < 7; ++j) {
-                double f1 = f(c - h * xk[j]), f2 = f(c + h * xk[j]);
-                k += wk[j] * (f1 + f2);
-                if (j % 2 == 1) g += wg[j / 2] * (f1 + f2);
-            }
-            k *= h;
-            g *= h;
-            if (std::abs(k - g) <= tol || depth >= maxd) return k;
+            const GkPanel p = gauss_kronrod_15(f, lo, hi);
+            if (std::abs(p.kronrod - p.gauss) <= tol || depth >= maxd) return p.kronrod;
+            const double c = 0.5 * (lo + hi);
             return run(lo, c, 0.5 * tol, depth + 1) + run(c, hi, 0.5 * tol, depth + 1);
         }
     };
-    Rec r{f, tol, max_depth};
+    Rec r{f, max_depth};
     return r.run(a, b, tol, 0);
 }
 

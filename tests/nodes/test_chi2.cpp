@@ -37,10 +37,13 @@
 #include <thread>
 #include <vector>
 
+#include "quadrature.h"
 #include "test_support.h"
 
 namespace {
 
+using retroprism::gauss_kronrod_15;
+using retroprism::GkPanel;
 using retroprism::Params;
 using dvec3 = glm::dvec3;
 namespace f64 = retroprism::f64;
@@ -171,25 +174,9 @@ template <class F>
 double gk_adaptive(const F& f, double a, double b, double tol, QuadStats& q, int depth = 0,
                    double rootTol = -1.0) {
     if (rootTol < 0) rootTol = tol;
-    static const double xk[8] = {0.991455371120812639, 0.949107912342758525, 0.864864423359769073,
-                                 0.741531185599394440, 0.586087235467691130, 0.405845151377397167,
-                                 0.207784955007898468, 0.000000000000000000};
-    static const double wk[8] = {0.022935322010529225, 0.063092092629978553, 0.104790010322250184,
-                                 0.140653259715525919, 0.169004726639267903, 0.190350578064785410,
-                                 0.204432940075298892, 0.209482141084727828};
-    static const double wg[4] = {0.129484966168869693, 0.279705391489276668, 0.381830050505118945,
-                                 0.417959183673469388};
-    const double c = 0.5 * (a + b), h = 0.5 * (b - a);
-    const double fc = f(c);
-    double k = wk[7] * fc, g = wg[3] * fc;
-    for (int j = 0; j < 7; ++j) {
-        const double f1 = f(c - h * xk[j]), f2 = f(c + h * xk[j]);
-        k += wk[j] * (f1 + f2);
-        if (j % 2 == 1) g += wg[j / 2] * (f1 + f2);
-    }
+    const GkPanel panel = gauss_kronrod_15(f, a, b);
+    const double c = 0.5 * (a + b), k = panel.kronrod, g = panel.gauss;
     q.evals += 15;
-    k *= h;
-    g *= h;
     const double err = std::abs(k - g);
     if (err <= tol || err <= kRelTol * std::abs(k)) return k;
     if (depth >= kMaxDepth || q.evals > q.cellLimit || !std::isfinite(k)) {
