@@ -25,6 +25,7 @@
 #include "benchmarks.h"
 #include "check.h"
 #include "commands.h"
+#include "parse.h"
 #include "cost_error_plot.h"
 #include "embedded_files.h"
 #include "gl_runner.h"
@@ -274,14 +275,10 @@ int cmd_bench(int argc, const char** argv) {
     int status = 0;
     if (!parse_command_args(ap, argc, argv, status)) return status;
     const std::string minTime = ap["min_time"].get<std::string>();
-    char* end = nullptr;
-    const double mt = std::strtod(minTime.c_str(), &end);
-    if (*end != '\0' || !(mt > 0 && mt <= 60))
+    const std::optional<double> mt = try_parse_number(minTime);
+    if (!mt || !(*mt > 0 && *mt <= 60))
         throw InputError("--min-time " + minTime + ": expected seconds in (0, 60]");
-    const std::string repText = ap["repetitions"].get<std::string>();
-    const long reps = std::strtol(repText.c_str(), &end, 10);
-    if (repText.empty() || *end != '\0' || reps < 1 || reps > 20)
-        throw InputError("--repetitions " + repText + ": expected a whole number in [1, 20]");
+    const auto reps = parse_count(ap["repetitions"].get<std::string>(), "--repetitions", 1, 20);
 
     const std::vector<bench::Row>& rows = bench::rows();
     std::string flag = "--benchmark_min_time=" + minTime;

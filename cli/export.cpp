@@ -11,6 +11,7 @@
 
 #include "check.h"
 #include "commands.h"
+#include "parse.h"
 #include "embedded_files.h"
 #include "glsl_gen.h"
 #include "mtlx_reader.h"
@@ -170,13 +171,12 @@ int cmd_export(int argc, const char** argv) {
     const std::string document = ap["document"].get<std::string>();
     if (!document.empty()) {
         const std::string me = ap["max_error"].get<std::string>();
-        char* end = nullptr;
-        const double maxError = std::strtod(me.c_str(), &end);
-        if (me.empty() || *end != '\0' || !(maxError >= 0 && maxError <= 1))
+        const std::optional<double> maxError = try_parse_number(me);
+        if (!maxError || !(*maxError >= 0 && *maxError <= 1))
             throw InputError("--max-error " + me + ": expected a relative error in [0, 1]");
         const MtlxDocument doc = read_mtlx(document);
         const MtlxMaterial& m = select_material(doc, ap["material"].get<std::string>());
-        const std::string chosen = choose_variant(m.params, maxError);
+        const std::string chosen = choose_variant(m.params, *maxError);
         write_file(dir / "glsl" / ("selected_" + m.name + ".glsl"), embedded_variant(chosen));
         ++written;
     }

@@ -26,6 +26,7 @@
 
 #include "alta_reader.h"
 #include "commands.h"
+#include "parse.h"
 #include "figure.h"
 #include "fit_plot.h"
 #include "fitting.h"
@@ -102,18 +103,6 @@ std::vector<Slice> slices(const FitData& d, const NodeFit& nf, const MrmFit& mf,
         out.push_back(std::move(sl));
     }
     return out;
-}
-
-double parse_option(const std::string& text, const std::string& option, double lo, double hi) {
-    char* end = nullptr;
-    const double v = std::strtod(text.c_str(), &end);
-    if (text.empty() || *end != '\0' || !std::isfinite(v) || v < lo || v > hi) {
-        char buf[160];
-        std::snprintf(buf, sizeof buf, "%s %s: expected a number in [%g, %g]", option.c_str(),
-                      text.c_str(), lo, hi);
-        throw InputError(buf);
-    }
-    return v;
 }
 
 void print_report(const FitData& d, const AltaData& alta, const FitOptions& o, const NodeFit& nf,
@@ -203,9 +192,9 @@ int cmd_fit(int argc, const char** argv) {
     const auto t0 = std::chrono::steady_clock::now();
     FitOptions o;
     o.resolution_fwhm_deg =
-        parse_option(ap["resolution"].get<std::string>(), "--resolution", 0.0, 10.0);
+        parse_number_in(ap["resolution"].get<std::string>(), "--resolution", 0.0, 10.0);
     if (!ap["ior"].get<std::string>().empty())
-        o.fixed_ior = parse_option(ap["ior"].get<std::string>(), "--ior", 1.01, 3.0);
+        o.fixed_ior = parse_number_in(ap["ior"].get<std::string>(), "--ior", 1.01, 3.0);
     const std::string plotPath = ap["plot"].get<std::string>();
     if (!plotPath.empty()) {
         const fs::path dir = fs::path(plotPath).parent_path();

@@ -1,4 +1,5 @@
 #include "alta_reader.h"
+#include "parse.h"
 
 #include <cmath>
 #include <cstdlib>
@@ -32,11 +33,11 @@ std::vector<std::string> split_ws(const std::string& s) {
     return out;
 }
 
+// Overflow gives an infinity (rejected); underflow to a tiny number or zero is fine.
 bool parse_double(const std::string& s, double& v) {
-    char* end = nullptr;
-    v = std::strtod(s.c_str(), &end);
-    // Overflow gives an infinity (rejected); underflow to a tiny number or zero is fine.
-    return !s.empty() && *end == '\0' && std::isfinite(v);
+    const std::optional<double> x = try_parse_number(s);
+    if (x) v = *x;
+    return x.has_value();
 }
 
 } // namespace

@@ -1,4 +1,5 @@
 #include "mtlx_reader.h"
+#include "parse.h"
 
 #include <algorithm>
 #include <cmath>
@@ -99,10 +100,9 @@ class Reader {
 };
 
 bool parse_float(const std::string& text, double& v) {
-    const std::string t = trim(text);
-    char* end = nullptr;
-    v = std::strtod(t.c_str(), &end);
-    return !t.empty() && *end == '\0' && std::isfinite(v);
+    const std::optional<double> x = try_parse_number(trim(text));
+    if (x) v = *x;
+    return x.has_value();
 }
 
 // "x, y, z" (MaterialX's vector and colour syntax).

@@ -3,8 +3,10 @@
 #include "study_results.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <type_traits>
 
@@ -95,6 +97,12 @@ struct Archive {
     std::enable_if_t<std::is_arithmetic_v<T>> io(T& v) {
         double d = double(v);
         io(d);
+        // A count, flag or enum must be a whole number the type can hold.
+        if constexpr (std::is_integral_v<T>)
+            if (!(d == std::floor(d) && d >= double(std::numeric_limits<T>::lowest()) &&
+                  d <= double(std::numeric_limits<T>::max())))
+                throw InputError("--load: value " + std::to_string(pos) +
+                                 " of the results file is not a whole number in range");
         v = T(d);
     }
     void io(Estimate& e) {
@@ -113,6 +121,10 @@ struct Archive {
     void io(std::vector<T>& v) {
         std::uint64_t n = v.size();
         io(n);
+        // Each element is at least one number: a longer list than the file holds is an error
+        // before it is allocated.
+        if (loading && n > data.size() - pos)
+            throw InputError("--load: the results file is truncated");
         if (loading) v.resize(size_t(n));
         for (T& x : v)
             io(x);
@@ -268,8 +280,14 @@ StudyResults load_study(const std::string& path, bool quick) {
     Archive ar;
     ar.loading = true;
     std::string tok;
-    while (in >> tok)
-        ar.data.push_back(std::strtod(tok.c_str(), nullptr));
+    while (in >> tok) {
+        // Saved with %.17g: NaN and infinities are written as nan and inf.
+        const std::optional<double> v = try_parse_number(tok, false);
+        if (!v)
+            throw InputError("--load " + path + ": \"" + tok + "\" (value " +
+                             std::to_string(ar.data.size() + 1) + ") is not a number");
+        ar.data.push_back(*v);
+    }
     ar.io(s);
     if (s.results.size() != s.grid.size())
         throw InputError("--load " + path + ": " + std::to_string(s.results.size()) +

@@ -18,10 +18,10 @@ std::string number_text(double v) {
 
 } // namespace
 
-std::optional<double> try_parse_number(const std::string& text) {
+std::optional<double> try_parse_number(const std::string& text, bool finiteOnly) {
     char* end = nullptr;
     const double v = std::strtod(text.c_str(), &end);
-    if (text.empty() || *end != '\0' || !std::isfinite(v)) return std::nullopt;
+    if (text.empty() || *end != '\0' || (finiteOnly && !std::isfinite(v))) return std::nullopt;
     return v;
 }
 

@@ -9,8 +9,9 @@
 namespace retroprism {
 
 // The whole of `text` as a finite double, or nothing (empty text, trailing characters,
-// overflow to infinity, NaN).
-std::optional<double> try_parse_number(const std::string& text);
+// overflow to infinity, NaN). With finiteOnly false, "nan" and "inf" (any sign, as printf
+// writes them) are numbers too.
+std::optional<double> try_parse_number(const std::string& text, bool finiteOnly = true);
 
 // The whole of `text` as a finite double; otherwise an InputError "<what> <text>: expected a
 // finite number".
