@@ -39,6 +39,7 @@
 #include "mtlx_reader.h"
 #include "prismatic_retroreflector.h"
 #include "query.h"
+#include "study_results.h"
 
 namespace rpfuzz {
 
@@ -474,6 +475,36 @@ inline void check_alta(const std::uint8_t* data, size_t size) {
             if (!std::isfinite(v)) throw Violation(at + ": a non-finite direction or value");
         if (!(wi.z > 0) || !(wo.z >= -1e-9))
             throw Violation(at + ": a direction below the horizon");
+    }
+}
+
+// The accuracy study's files (sim/study_results.h): the archive of `simulate --study --load`
+// and results.csv. Either reader returns the whole grid or throws an InputError naming the
+// file; nothing else (no crash, no other exception, no partial result).
+inline void check_study(const std::uint8_t* data, size_t size) {
+    const std::string text(reinterpret_cast<const char*>(data), size);
+    for (const bool quick : {true, false}) {
+        const std::string name = "fuzz_study.txt";
+        std::istringstream in(text);
+        try {
+            const retroprism::sim::StudyResults s = retroprism::sim::parse_study(in, name, quick);
+            if (s.results.size() != s.grid.size())
+                throw Violation("parse_study returned " + std::to_string(s.results.size()) +
+                                " configurations for a grid of " + std::to_string(s.grid.size()));
+        } catch (const retroprism::InputError& e) {
+            if (!names(e.what(), name))
+                throw Violation(std::string("parse_study's error does not name the file: ") +
+                                e.what());
+        }
+    }
+    const std::string csvName = "fuzz_results.csv";
+    std::istringstream csv(text);
+    try {
+        retroprism::sim::parse_results_csv(csv, csvName);
+    } catch (const retroprism::InputError& e) {
+        if (!names(e.what(), csvName))
+            throw Violation(std::string("parse_results_csv's error does not name the file: ") +
+                            e.what());
     }
 }
 

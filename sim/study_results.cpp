@@ -83,11 +83,13 @@ std::vector<std::string> split_csv(const std::string& line) {
 // order.
 struct Archive {
     bool loading = false;
+    std::string source; // the file being loaded, for the errors
     std::vector<double> data;
     size_t pos = 0;
     void io(double& v) {
         if (loading) {
-            if (pos >= data.size()) throw InputError("--load: the results file is truncated");
+            if (pos >= data.size())
+                throw InputError("--load " + source + ": the results file is truncated");
             v = data[pos++];
         } else {
             data.push_back(v);
@@ -101,7 +103,7 @@ struct Archive {
         if constexpr (std::is_integral_v<T>)
             if (!(d == std::floor(d) && d >= double(std::numeric_limits<T>::lowest()) &&
                   d <= double(std::numeric_limits<T>::max())))
-                throw InputError("--load: value " + std::to_string(pos) +
+                throw InputError("--load " + source + ": value " + std::to_string(pos) +
                                  " of the results file is not a whole number in range");
         v = T(d);
     }
@@ -124,7 +126,7 @@ struct Archive {
         // Each element is at least one number: a longer list than the file holds is an error
         // before it is allocated.
         if (loading && n > data.size() - pos)
-            throw InputError("--load: the results file is truncated");
+            throw InputError("--load " + source + ": the results file is truncated");
         if (loading) v.resize(size_t(n));
         for (T& x : v)
             io(x);
@@ -223,6 +225,10 @@ void write_results_csv(const std::string& path, const std::vector<ConfigResult>&
 std::vector<ConfigResult> read_results_csv(const std::string& path) {
     std::ifstream in(path);
     if (!in) throw InputError(path + ": cannot open the accuracy study's results");
+    return parse_results_csv(in, path);
+}
+
+std::vector<ConfigResult> parse_results_csv(std::istream& in, const std::string& path) {
     std::string line;
     std::getline(in, line);
     const std::vector<std::string> head = split_csv(line);
@@ -272,6 +278,10 @@ void save_study(const std::string& path, const StudyResults& s) {
 StudyResults load_study(const std::string& path, bool quick) {
     std::ifstream in(path);
     if (!in) throw InputError("--load " + path + ": cannot open file");
+    return parse_study(in, path, quick);
+}
+
+StudyResults parse_study(std::istream& in, const std::string& path, bool quick) {
     StudyResults s;
     s.options.quick = quick;
     s.grid = study_grid(quick);
@@ -279,6 +289,7 @@ StudyResults load_study(const std::string& path, bool quick) {
     std::getline(in, s.date);
     Archive ar;
     ar.loading = true;
+    ar.source = path;
     std::string tok;
     while (in >> tok) {
         // Saved with %.17g: NaN and infinities are written as nan and inf.

@@ -4,6 +4,7 @@
 // `--load FILE`) that redoes the document and plots without simulating.
 #pragma once
 
+#include <istream>
 #include <string>
 #include <vector>
 
@@ -18,11 +19,15 @@ void write_results_csv(const std::string& path, const std::vector<ConfigResult>&
 // and the fits' other members, which the CSV does not hold, stay empty). InputError naming the
 // file and line for a missing column, a wrong field count or a field that is not a number.
 std::vector<ConfigResult> read_results_csv(const std::string& path);
+// The same from a stream; `path` names it in the errors.
+std::vector<ConfigResult> parse_results_csv(std::istream& in, const std::string& path);
 
 // The archive: the machine and date lines, then every number of the run, one per line.
 void save_study(const std::string& path, const StudyResults& s);
 // An archive written by save_study; InputError when it is truncated or its grid is not that of
 // `quick` (the same --quick as the run that saved it).
 StudyResults load_study(const std::string& path, bool quick);
+// The same from a stream; `path` names it in the errors.
+StudyResults parse_study(std::istream& in, const std::string& path, bool quick);
 
 } // namespace retroprism::sim

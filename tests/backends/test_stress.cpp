@@ -170,7 +170,8 @@ TEST_CASE("the fuzz corpus replays cleanly", "[stress]") {
     const Target targets[] = {{"closure", rpfuzz::check_closure},
                               {"query", rpfuzz::check_query},
                               {"mtlx", rpfuzz::check_mtlx},
-                              {"alta", rpfuzz::check_alta}};
+                              {"alta", rpfuzz::check_alta},
+                              {"study", rpfuzz::check_study}};
     for (const Target& t : targets) {
         int files = 0;
         for (const auto& entry : fs::directory_iterator(corpus / t.name)) {
