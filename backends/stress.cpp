@@ -445,17 +445,17 @@ std::string describe(const Params& p) {
     auto v3 = [](const std::array<double, 3>& v) {
         return "[" + num(v[0]) + ", " + num(v[1]) + ", " + num(v[2]) + "]";
     };
-#define RP_FLOAT(n, def, lo, hi, doc) add(#n, num(p.n));
-#define RP_COLOR(n, r, g, b, doc) add(#n, v3(p.n));
-#define RP_ENUM(n, def, values, doc) add(#n, std::to_string(p.n));
-#define RP_VECTOR(n, x, y, z, geomprop, doc) add(#n, v3(p.n));
-#define RP_BOOL(n, def, doc) add(#n, p.n ? "true" : "false");
-#include "prismatic_retroreflector_params.def"
-#undef RP_FLOAT
-#undef RP_COLOR
-#undef RP_ENUM
-#undef RP_VECTOR
-#undef RP_BOOL
+    for_each_input(p, [&](const ParamInfo& info, const auto& v) {
+        using T = std::decay_t<decltype(v)>;
+        if constexpr (std::is_same_v<T, double>)
+            add(info.name, num(v));
+        else if constexpr (std::is_same_v<T, Color3>)
+            add(info.name, v3(v));
+        else if constexpr (std::is_same_v<T, int>)
+            add(info.name, std::to_string(v));
+        else
+            add(info.name, v ? "true" : "false");
+    });
     return s + "}";
 }
 

@@ -29,6 +29,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <typeinfo>
 #include <vector>
 
@@ -98,21 +99,18 @@ inline std::string hexfloat(double v) {
 // one bit: other bytes would not be a bool).
 inline retroprism::Params params_from_bytes(Bytes& in) {
     retroprism::Params p;
-#define RP_FLOAT(n, def, lo, hi, doc) p.n = in.take<double>();
-#define RP_COLOR(n, r, g, b, doc)                                                                  \
-    for (int c = 0; c < 3; ++c)                                                                    \
-        p.n[size_t(c)] = in.take<double>();
-#define RP_ENUM(n, def, values, doc) p.n = in.take<std::int32_t>();
-#define RP_VECTOR(n, x, y, z, geomprop, doc)                                                       \
-    for (int c = 0; c < 3; ++c)                                                                    \
-        p.n[size_t(c)] = in.take<double>();
-#define RP_BOOL(n, def, doc) p.n = (in.take<std::uint8_t>() & 1) != 0;
-#include "prismatic_retroreflector_params.def"
-#undef RP_FLOAT
-#undef RP_COLOR
-#undef RP_ENUM
-#undef RP_VECTOR
-#undef RP_BOOL
+    retroprism::for_each_input(p, [&](const retroprism::ParamInfo&, auto& v) {
+        using T = std::decay_t<decltype(v)>;
+        if constexpr (std::is_same_v<T, double>)
+            v = in.take<double>();
+        else if constexpr (std::is_same_v<T, retroprism::Color3>)
+            for (double& c : v)
+                c = in.take<double>();
+        else if constexpr (std::is_same_v<T, int>)
+            v = in.take<std::int32_t>();
+        else
+            v = (in.take<std::uint8_t>() & 1) != 0;
+    });
     return p;
 }
 
@@ -123,21 +121,18 @@ inline std::vector<std::uint8_t> params_to_bytes(const retroprism::Params& p) {
         const auto* b = reinterpret_cast<const std::uint8_t*>(&v);
         out.insert(out.end(), b, b + sizeof v);
     };
-#define RP_FLOAT(n, def, lo, hi, doc) put(double(p.n));
-#define RP_COLOR(n, r, g, b, doc)                                                                  \
-    for (int c = 0; c < 3; ++c)                                                                    \
-        put(double(p.n[size_t(c)]));
-#define RP_ENUM(n, def, values, doc) put(std::int32_t(p.n));
-#define RP_VECTOR(n, x, y, z, geomprop, doc)                                                       \
-    for (int c = 0; c < 3; ++c)                                                                    \
-        put(double(p.n[size_t(c)]));
-#define RP_BOOL(n, def, doc) put(std::uint8_t(p.n ? 1 : 0));
-#include "prismatic_retroreflector_params.def"
-#undef RP_FLOAT
-#undef RP_COLOR
-#undef RP_ENUM
-#undef RP_VECTOR
-#undef RP_BOOL
+    retroprism::for_each_input(p, [&](const retroprism::ParamInfo&, const auto& v) {
+        using T = std::decay_t<decltype(v)>;
+        if constexpr (std::is_same_v<T, double>)
+            put(v);
+        else if constexpr (std::is_same_v<T, retroprism::Color3>)
+            for (double c : v)
+                put(c);
+        else if constexpr (std::is_same_v<T, int>)
+            put(std::int32_t(v));
+        else
+            put(std::uint8_t(v ? 1 : 0));
+    });
     return out;
 }
 
@@ -164,19 +159,16 @@ std::vector<std::uint8_t> closure_input(const retroprism::Params& p, const glm::
 // All inputs, exactly, for messages.
 inline std::string describe(const retroprism::Params& p) {
     std::ostringstream ss;
-#define RP_FLOAT(n, def, lo, hi, doc) ss << #n " " << hexfloat(p.n) << " ";
-#define RP_COLOR(n, r, g, b, doc)                                                                  \
-    ss << #n " " << hexfloat(p.n[0]) << "," << hexfloat(p.n[1]) << "," << hexfloat(p.n[2]) << " ";
-#define RP_ENUM(n, def, values, doc) ss << #n " " << p.n << " ";
-#define RP_VECTOR(n, x, y, z, geomprop, doc)                                                       \
-    ss << #n " " << hexfloat(p.n[0]) << "," << hexfloat(p.n[1]) << "," << hexfloat(p.n[2]) << " ";
-#define RP_BOOL(n, def, doc) ss << #n " " << p.n << " ";
-#include "prismatic_retroreflector_params.def"
-#undef RP_FLOAT
-#undef RP_COLOR
-#undef RP_ENUM
-#undef RP_VECTOR
-#undef RP_BOOL
+    retroprism::for_each_input(p, [&](const retroprism::ParamInfo& info, const auto& v) {
+        using T = std::decay_t<decltype(v)>;
+        ss << info.name << " ";
+        if constexpr (std::is_same_v<T, double>)
+            ss << hexfloat(v) << " ";
+        else if constexpr (std::is_same_v<T, retroprism::Color3>)
+            ss << hexfloat(v[0]) << "," << hexfloat(v[1]) << "," << hexfloat(v[2]) << " ";
+        else
+            ss << v << " ";
+    });
     return ss.str();
 }
 
@@ -387,24 +379,21 @@ inline void check_in_range(const retroprism::Params& p, const std::string& what)
         if (!(v >= lo && v <= hi))
             throw Violation(what + ": " + name + " = " + hexfloat(v) + " passed the reader");
     };
-#define RP_FLOAT(n, def, lo, hi, doc) in(p.n, lo, hi, #n);
-#define RP_COLOR(n, r, g, b, doc)                                                                  \
-    for (int c = 0; c < 3; ++c)                                                                    \
-        in(p.n[size_t(c)], 0.0, 1.0, #n);
-#define RP_ENUM(n, def, values, doc)                                                               \
-    in(double(p.n), 0.0,                                                                           \
-       double(retroprism::enum_values(*retroprism::find_param(#n)).size()) - 1.0, #n);
-#define RP_VECTOR(n, x, y, z, geomprop, doc)                                                       \
-    for (int c = 0; c < 3; ++c)                                                                    \
-        if (!std::isfinite(p.n[size_t(c)]))                                                        \
-            throw Violation(what + ": " #n " is not finite but passed the reader");
-#define RP_BOOL(n, def, doc)
-#include "prismatic_retroreflector_params.def"
-#undef RP_FLOAT
-#undef RP_COLOR
-#undef RP_ENUM
-#undef RP_VECTOR
-#undef RP_BOOL
+    retroprism::for_each_input(p, [&](const retroprism::ParamInfo& info, const auto& v) {
+        using T = std::decay_t<decltype(v)>;
+        if constexpr (std::is_same_v<T, double>) {
+            in(v, info.min_value, info.max_value, info.name);
+        } else if constexpr (std::is_same_v<T, retroprism::Color3>) {
+            for (double c : v)
+                if (info.type == retroprism::ParamType::Color)
+                    in(c, 0.0, 1.0, info.name);
+                else if (!std::isfinite(c))
+                    throw Violation(what + ": " + info.name +
+                                    " is not finite but passed the reader");
+        } else if constexpr (std::is_same_v<T, int>) {
+            in(double(v), 0.0, double(retroprism::enum_values(info).size()) - 1.0, info.name);
+        }
+    });
 }
 
 inline void check_mtlx(const std::uint8_t* data, size_t size) {

@@ -76,6 +76,30 @@ template <class T>
 const T* input_field(const Params& p, const std::string& name) {
     return input_field<T>(const_cast<Params&>(p), name);
 }
+// Calls f(info, field) for every input of p in table order, with the input's C++ field:
+// double& (floats), Color3& (colours and vectors: info.type tells them apart), int& (enums),
+// bool&; const references for a const p. One walk over the parameter table for the code that
+// treats every input alike (serialisation, descriptions, range checks).
+template <class P, class F>
+void for_each_input(P& p, F&& f) {
+    for (const ParamInfo& info : param_table()) {
+        switch (info.type) {
+        case ParamType::Float:
+            f(info, *input_field<double>(p, info.name));
+            break;
+        case ParamType::Color:
+        case ParamType::Vector:
+            f(info, *input_field<Color3>(p, info.name));
+            break;
+        case ParamType::Enum:
+            f(info, *input_field<int>(p, info.name));
+            break;
+        case ParamType::Bool:
+            f(info, *input_field<bool>(p, info.name));
+            break;
+        }
+    }
+}
 // The enum's values as a list, and the index of `value` in it (-1 when absent).
 std::vector<std::string> enum_values(const ParamInfo& info);
 int enum_index(const ParamInfo& info, const std::string& value);
