@@ -8,19 +8,14 @@
 
 #include <OpenImageIO/imagebuf.h>
 
+#include "brdf_maps.h"
 #include "figure.h"
 #include "plot.h"
 #include "prismatic_retroreflector.h"
 
 namespace retroprism::plot {
 
-// One in-plane slice: the luminance of f cos(theta_o) per lobe at signed angles s (degrees),
-// wo = (sin s, 0, cos s), so s > 0 is on the light's side of the normal.
-struct BrdfSlice {
-    double thetaIDeg = 0;
-    std::vector<double> s;
-    std::vector<double> y[4]; // surface, retro, diffuse, total
-};
+using BrdfSlice = retroprism::BrdfSlice;
 
 // The figure and panel layout of in-plane slices: one wide panel per incidence angle, the signed
 // outgoing angle [-90, 90] deg on x (ticks every 30), a log axis [yLo, yHi] decades on y, the

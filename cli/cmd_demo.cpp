@@ -1,4 +1,4 @@
-// demo.cpp: `retroprism demo`, pictures of the bundled example materials.
+// cmd_demo.cpp: `retroprism demo`, pictures of the bundled example materials.
 //
 // For each material (a JSON object of node inputs) and incidence angles theta_i = 5, 30, 60
 // degrees (phi_i = 0, wi toward +x), evaluated in double:
@@ -28,6 +28,7 @@
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/parallel.h>
 
+#include "brdf_maps.h"
 #include "brdf_plots.h"
 #include "commands.h"
 #include "photometry.h"
@@ -55,32 +56,6 @@ struct Material {
     std::string path;
     Params params;
     json inputs; // as read from the file
-};
-
-vec3 incident(double thetaIDeg) {
-    return vec3(std::sin(thetaIDeg * kDeg), 0.0, std::cos(thetaIDeg * kDeg));
-}
-
-// Counts values that should never come out of the node (NaN, Inf, negative), with one example.
-struct Anomalies {
-    std::atomic<long> count{0};
-    std::string example;
-    void check(const Node::Lobes& f, const vec3& wi, const vec3& wo) {
-        const vec3 v[3] = {f.surface, f.retro, f.diffuse};
-        const char* names[3] = {"surface", "retro", "diffuse"};
-        for (int l = 0; l < 3; ++l)
-            for (int c = 0; c < 3; ++c)
-                if (!std::isfinite(v[l][c]) || v[l][c] < 0) {
-                    if (++count == 1) {
-                        char buf[256];
-                        std::snprintf(
-                            buf, sizeof buf,
-                            "%s[%d] = %g at wi = (%.6f, %.6f, %.6f), wo = (%.6f, %.6f, %.6f)",
-                            names[l], c, v[l][c], wi.x, wi.y, wi.z, wo.x, wo.y, wo.z);
-                        example = buf;
-                    }
-                }
-    }
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -154,76 +129,6 @@ bool read_materials(const fs::path& where, std::vector<Material>& out) {
 
 // ---------------------------------------------------------------------------------------------
 // Evaluation.
-
-// Hemisphere maps: kPanels panels of n x n pixels side by side, 12 channels per pixel
-// (surface, retro, diffuse, total; RGB), value f cos(theta_o) at the pixel centre.
-std::vector<float> hemisphere_maps(const Node& node, int n, Anomalies& anomalies) {
-    const int width = kPanels * n, nch = 12;
-    std::vector<float> data(size_t(width) * n * nch, 0.0f);
-    OIIO::parallel_for(0, n, [&](int32_t y) {
-        const double v = 1.0 - (y + 0.5) * 2.0 / n;
-        for (int k = 0; k < kPanels; ++k) {
-            const vec3 wi = incident(kThetaIDeg[k]);
-            for (int x = 0; x < n; ++x) {
-                const double u = (x + 0.5) * 2.0 / n - 1.0;
-                const double r2 = u * u + v * v;
-                if (r2 >= 1.0) continue;
-                const vec3 wo(u, v, std::sqrt(1.0 - r2));
-                const Node::Eval e = node.eval(wi, wo);
-                anomalies.check(e.f, wi, wo);
-                const vec3 lobes[4] = {e.f.surface, e.f.retro, e.f.diffuse, e.f.total()};
-                float* px = &data[(size_t(y) * width + size_t(k) * n + x) * nch];
-                for (int l = 0; l < 4; ++l)
-                    for (int c = 0; c < 3; ++c)
-                        px[3 * l + c] = float(lobes[l][c] * wo.z);
-            }
-        }
-    });
-    return data;
-}
-
-using Slice = plot::BrdfSlice;
-
-// Uniform samples plus geometric refinement toward the retro (+theta_i) and mirror
-// (-theta_i) peaks, which can be far narrower than the uniform step at low roughness.
-std::vector<double> slice_angles(double thetaIDeg) {
-    std::vector<double> s;
-    for (int i = 0; i <= kSliceSamples; ++i)
-        s.push_back(-90.0 + 180.0 * i / kSliceSamples);
-    for (double peak : {thetaIDeg, -thetaIDeg}) {
-        s.push_back(peak);
-        for (double d = 1e-4; d < 3.0; d *= 1.25) {
-            s.push_back(peak - d);
-            s.push_back(peak + d);
-        }
-    }
-    std::sort(s.begin(), s.end());
-    s.erase(std::remove_if(s.begin(), s.end(), [](double a) { return a < -90.0 || a > 90.0; }),
-            s.end());
-    s.erase(std::unique(s.begin(), s.end()), s.end());
-    return s;
-}
-
-Slice slice(const Node& node, double thetaIDeg, Anomalies& anomalies) {
-    Slice sl;
-    sl.thetaIDeg = thetaIDeg;
-    sl.s = slice_angles(thetaIDeg);
-    for (auto& v : sl.y)
-        v.assign(sl.s.size(), 0.0);
-    const vec3 wi = incident(thetaIDeg);
-    OIIO::parallel_for(0, int32_t(sl.s.size()), [&](int32_t i) {
-        const double a = sl.s[size_t(i)] * kDeg;
-        const vec3 wo(std::sin(a), 0.0, std::cos(a));
-        const Node::Eval e = node.eval(wi, wo);
-        anomalies.check(e.f, wi, wo);
-        const double c = std::max(wo.z, 0.0);
-        sl.y[0][size_t(i)] = luminance_709(e.f.surface) * c;
-        sl.y[1][size_t(i)] = luminance_709(e.f.retro) * c;
-        sl.y[2][size_t(i)] = luminance_709(e.f.diffuse) * c;
-        sl.y[3][size_t(i)] = luminance_709(e.f.total()) * c;
-    });
-    return sl;
-}
 
 // ---------------------------------------------------------------------------------------------
 // Writing.
@@ -354,10 +259,11 @@ int cmd_demo(int argc, const char** argv) {
     for (const Material& mat : materials) {
         const Node node(mat.params);
         Anomalies anomalies;
-        const std::vector<float> maps = hemisphere_maps(node, kMapSize, anomalies);
-        std::vector<Slice> slices;
+        const std::vector<double> thetaI(std::begin(kThetaIDeg), std::end(kThetaIDeg));
+        const std::vector<float> maps = hemisphere_maps(node, thetaI, kMapSize, anomalies);
+        std::vector<BrdfSlice> slices;
         for (double t : kThetaIDeg)
-            slices.push_back(slice(node, t, anomalies));
+            slices.push_back(brdf_slice(node, t, kSliceSamples, anomalies));
 
         OIIO::ImageBuf exr = exr_image(mat, maps, kMapSize);
         OIIO::ImageBuf slicesImage = plot::slice_figure(
@@ -377,7 +283,7 @@ int cmd_demo(int argc, const char** argv) {
         // Summary: the retro peak f(wi, wi) and the diffuse floor f_d(wi, n), luminance Y.
         std::string peaks, floors;
         for (double t : kThetaIDeg) {
-            const vec3 wi = incident(t);
+            const vec3 wi(std::sin(t * kDeg), 0.0, std::cos(t * kDeg));
             const Node::Eval e = node.eval(wi, wi), en = node.eval(wi, vec3(0, 0, 1));
             peaks += (peaks.empty() ? "" : " / ") + plot::fmt("%.4g", luminance_709(e.f.total()));
             floors +=
