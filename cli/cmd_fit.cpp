@@ -1,5 +1,5 @@
-// cmd_fit.cpp: `retroprism fit DATA.dat`: fits the node, and the MaterialX-style retroreflective GGX
-// baseline, to measured BRDF x cos(theta_v) samples in the ALTA text format, and reports both
+// cmd_fit.cpp: `retroprism fit DATA.dat`: fits the node, and the MaterialX-style retroreflective
+// GGX baseline, to measured BRDF x cos(theta_v) samples in the ALTA text format, and reports both
 // side by side. The model, objective, weighting, instrument blur and optimiser are described in
 // fitting.h; the baseline's exact formula in nodes/baselines.h.
 //
