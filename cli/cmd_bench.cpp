@@ -1,43 +1,33 @@
-// retroprism bench: the speed/accuracy trade table, from the Google Benchmark benchmarks of
-// bench/benchmarks.cpp run in this process: ns per evaluation and per sample + pdf of each
-// fidelity tier and lobe set, the ratio to the MaterialX-style retroreflective GGX, and each
+// cmd_bench.cpp: `retroprism bench`, the speed/accuracy trade table, from the Google Benchmark
+// benchmarks of bench/benchmarks.cpp run in this process: ns per evaluation and per sample + pdf of
+// each fidelity tier and lobe set, the ratio to the MaterialX-style retroreflective GGX, and each
 // row's relative L1 error against the double reference; a cost-error plot with the Pareto front.
 #include <benchmark/benchmark.h>
 
-#include <sys/wait.h>
-
-#include <algorithm>
-#include <chrono>
-#include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <cstdio>
 #include <map>
-#include <sstream>
 #include <string>
 #include <thread>
 
 #include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
 
 #include <nlohmann/json.hpp>
 
 #include "benchmarks.h"
-#include "check.h"
 #include "commands.h"
-#include "parse.h"
 #include "cost_error_plot.h"
-#include "embedded_files.h"
-#include "gl_runner.h"
-#include "glsl_gen.h"
+#include "error.h"
+#include "parse.h"
 #include "paths.h"
 #include "plot.h"
-#include "query.h"
-#include "study_results.h"
+#include "trade.h"
 
 namespace retroprism {
 
 namespace {
+
+using bench::Result;
+using bench::SimConfig;
 
 // Collects each benchmark's CPU time per iteration (ns): the median of its repetitions when
 // there are several, else its one run.
@@ -70,171 +60,19 @@ std::string fmt_err(double e) {
     return b;
 }
 
-struct Result {
-    const bench::Row* row;
-    double nsEval = 0, nsEvalPdf = -1, nsSample = -1, ratio = 0;
-    // Against the double reference over the standard direction pairs (negative: none).
-    double error = -1;     // relative L1: sum |f - f_ref| / sum |f_ref|
-    double rms = -1;       // relative RMS: sqrt(sum (f - f_ref)^2 / sum f_ref^2)
-    double worst = -1;     // worst |f - f_ref| / f_ref over values >= 1e-3 of their lobe's peak
-    double retroPeak = -1; // worst relative error of the retro lobe at wo = wi
-    // Against the microgeometry simulator (docs/accuracy/results.csv), over the study's
-    // configurations of the row's prisms: retro energy and retro peak, RMS and worst of the
-    // relative error (negative: none).
-    double simEnergyRms = -1, simEnergyWorst = -1, simPeakRms = -1, simPeakWorst = -1;
-    int simConfigs = 0;
-};
-
-// The row's errors against the double reference over the standard direction pairs of
-// `retroprism check` for the row's material (its normal is +z: the pairs are local).
-void reference_errors(const bench::Row& row, Result& res) {
-    const std::vector<DirectionPair> pairs = standard_pairs(row.material);
-    const bench::LocalEval f = row.make_eval(row.material);
-    const PrismaticRetroreflector<double> ref(row.reference);
-    std::vector<std::array<glm::dvec3, 3>> got(pairs.size()), want(pairs.size());
-    double peak[3] = {0, 0, 0};
-    for (size_t i = 0; i < pairs.size(); ++i) {
-        const glm::dvec3 wi(pairs[i].wi[0], pairs[i].wi[1], pairs[i].wi[2]);
-        const glm::dvec3 wo(pairs[i].wo[0], pairs[i].wo[1], pairs[i].wo[2]);
-        f(wi, wo, got[i].data());
-        const auto e = ref.eval(wi, wo);
-        want[i] = {e.f.surface, e.f.retro, e.f.diffuse};
-        for (int k = 0; k < 3; ++k)
-            for (int c = 0; c < 3; ++c)
-                peak[k] = std::max(peak[k], std::abs(want[i][size_t(k)][c]));
-    }
-    double l1 = 0, l1ref = 0, l2 = 0, l2ref = 0, worst = 0, retroPeak = 0;
-    for (size_t i = 0; i < pairs.size(); ++i) {
-        for (int k = 0; k < 3; ++k) {
-            if (!(row.mask & (1 << k))) continue;
-            for (int c = 0; c < 3; ++c) {
-                const double a = got[i][size_t(k)][c], b = want[i][size_t(k)][c];
-                l1 += std::abs(a - b);
-                l1ref += std::abs(b);
-                l2 += (a - b) * (a - b);
-                l2ref += b * b;
-                if (std::abs(b) >= 1e-3 * peak[k] && b != 0)
-                    worst = std::max(worst, std::abs(a - b) / std::abs(b));
-            }
-        }
-        if ((row.mask & 2) && pairs[i].wi == pairs[i].wo && want[i][1].x > 0)
-            retroPeak = std::max(retroPeak, std::abs(got[i][1].x / want[i][1].x - 1.0));
-    }
-    res.error = l1ref > 0 ? l1 / l1ref : 0;
-    res.rms = l2ref > 0 ? std::sqrt(l2 / l2ref) : 0;
-    res.worst = worst;
-    if (row.mask & 2) res.retroPeak = retroPeak;
-}
-
-// One configuration of the simulator's accuracy study.
-struct SimConfig {
-    double thetaDeg, roughness, ior;
-    int prism;
-    double simPeak, simEnergy; // simulated: retro peak (1/sr, cell average), retro energy
-    double modelPeak;          // the double reference's peak averaged over the same cells
-};
-
-// The study's configurations from its results file (sim/study_results.h).
-std::vector<SimConfig> read_study(const std::string& path) {
-    std::vector<SimConfig> out;
-    for (const sim::ConfigResult& r : sim::read_results_csv(path))
-        out.push_back({r.c.theta, r.c.alpha, r.c.eta, r.c.prism, r.sim.peak.value,
-                       r.sim.energy.value, r.v[0].peak});
-    return out;
-}
-
-// The row's retro lobe against the simulator, over the study's configurations with the row's
-// prisms (the study's material: kd 0.9, isotropic lobe, the paper's form; phi_i = 0). Energy:
-// the row's retro albedo, integrated over the double reference's retro sampling map (64 x 64
-// midpoints, weights f cos / pdf), against the simulated retro fraction. Peak: the study's
-// cell-averaged reference peak scaled by the row's peak over the reference's at wo = wi.
-void simulator_errors(const bench::Row& row, const std::vector<SimConfig>& study, Result& res) {
-    if (!(row.mask & 2)) return;
-    double e2 = 0, p2 = 0, eWorst = 0, pWorst = 0;
-    int n = 0;
-    for (const SimConfig& c : study) {
-        if (c.prism != row.material.prism_reflection) continue;
-        Params p = row.material, q = row.reference;
-        for (Params* x : {&p, &q}) {
-            x->roughness = c.roughness;
-            x->ior = c.ior;
-            x->diffuse_color = {0.9, 0.9, 0.9};
-        }
-        const bench::LocalEval f = row.make_eval(p);
-        const PrismaticRetroreflector<double> ref(q);
-        const double t = c.thetaDeg * M_PI / 180.0;
-        const glm::dvec3 wi(std::sin(t), 0.0, std::cos(t));
-        glm::dvec3 got[3];
-        f(wi, wi, got);
-        const double refPeak = ref.eval(wi, wi).f.retro.x;
-        const double peakErr = refPeak > 0 ? c.modelPeak * (got[1].x / refPeak) / c.simPeak - 1 : 0;
-        using Core = core<double>;
-        Core::incident s;
-        Core::setup(ref.core_material(), wi, s);
-        const int g = 64;
-        double energy = 0;
-        for (int a = 0; a < g; ++a)
-            for (int b = 0; b < g; ++b) {
-                const glm::dvec3 wo = Core::lobe_sample(
-                    ref.core_material(), s, wi, f64::RP_LOBE_RETRO, (a + 0.5) / g, (b + 0.5) / g);
-                if (!(wo.z >= f64::RP_MIN_COS)) continue;
-                const double pdf =
-                    Core::lobe_pdf(ref.core_material(), s, wi, wo, f64::RP_LOBE_RETRO);
-                if (!(pdf > 0)) continue;
-                f(wi, wo, got);
-                energy += got[1].x * wo.z / pdf;
-            }
-        energy /= double(g) * g;
-        const double energyErr = energy / c.simEnergy - 1;
-        e2 += energyErr * energyErr;
-        p2 += peakErr * peakErr;
-        if (std::abs(energyErr) > std::abs(eWorst)) eWorst = energyErr;
-        if (std::abs(peakErr) > std::abs(pWorst)) pWorst = peakErr;
-        ++n;
-    }
-    if (n == 0) return;
-    res.simConfigs = n;
-    res.simEnergyRms = std::sqrt(e2 / n);
-    res.simEnergyWorst = eWorst;
-    res.simPeakRms = std::sqrt(p2 / n);
-    res.simPeakWorst = pWorst;
-}
-
-// The GLSL variants' relative cost: SPIR-V instructions after optimisation, and evaluations per
-// second on this machine's OpenGL (llvmpipe without a GPU), excluding shader compilation.
-void glsl_costs(bool json) {
-    const int n = 100000;
-    std::vector<std::array<Vec3d, 2>> pairs;
-    for (int i = 0; i < n; ++i) {
-        const double t = 0.05 + 1.4 * double((i * 7919LL) % n) / n;
-        const double p = 6.283 * double((i * 104729LL) % n) / n;
-        const Vec3d wi = {std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)};
-        pairs.push_back(
-            {wi, {-wi[0] * 0.9, -wi[1] * 0.9, std::sqrt(1.0 - 0.81 * (1.0 - wi[2] * wi[2]))}});
-    }
+// The GLSL variants' cost, as a table or JSON.
+void print_glsl_costs(bool json) {
     nlohmann::json rows = nlohmann::json::array();
     if (!json)
         std::printf("\n%-52s %14s %16s\n", "GLSL variant", "SPIR-V instr.", "llvmpipe eval/s");
-    for (const glsl::Variant& v : glsl::standard_variants()) {
-        const std::string lib = embedded_variant(v.name);
-        const long instr = glsl::spirv_instructions(lib, v.name);
-        gl::Runner runner(lib);
-        Params p;
-        if (v.era_mode >= 0) p.era_mode = v.era_mode;
-        if (v.prism_reflection >= 0) p.prism_reflection = v.prism_reflection;
-        if (v.fidelity >= 0) p.fidelity = v.fidelity;
-        runner.evaluate(p, {pairs.begin(), pairs.begin() + 64}); // warm up
-        const auto t0 = std::chrono::steady_clock::now();
-        runner.evaluate(p, pairs);
-        const double secs =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        const double rate = n / secs;
+    for (const bench::GlslCost& c : bench::glsl_costs()) {
         if (json)
-            rows.push_back({{"variant", v.name},
-                            {"spirv_instructions", instr},
-                            {"llvmpipe_evals_per_second", rate}});
+            rows.push_back({{"variant", c.variant},
+                            {"spirv_instructions", c.spirvInstructions},
+                            {"llvmpipe_evals_per_second", c.evalsPerSecond}});
         else
-            std::printf("%-52s %14ld %16.3g\n", v.name.c_str(), instr, rate);
+            std::printf("%-52s %14ld %16.3g\n", c.variant.c_str(), c.spirvInstructions,
+                        c.evalsPerSecond);
     }
     if (json) std::printf("%s\n", nlohmann::json{{"glsl", rows}}.dump(2).c_str());
 }
@@ -293,7 +131,7 @@ int cmd_bench(int argc, const char** argv) {
     Collector collector;
     benchmark::RunSpecifiedBenchmarks(&collector);
 
-    const std::vector<SimConfig> study = read_study(data_path("docs/accuracy/results.csv"));
+    const std::vector<SimConfig> study = bench::read_study(data_path("docs/accuracy/results.csv"));
     std::vector<Result> results;
     double mrm = 0;
     for (const bench::Row& r : rows) {
@@ -305,8 +143,8 @@ int cmd_bench(int argc, const char** argv) {
             res.nsSample = collector.ns["sample_pdf/" + r.name] / bench::kPairs;
         }
         if (!r.baseline) {
-            reference_errors(r, res);
-            simulator_errors(r, study, res);
+            bench::reference_errors(r, res);
+            bench::simulator_errors(r, study, res);
         }
         if (r.name == "mrm_ggx") mrm = res.nsEval;
         results.push_back(res);
@@ -375,7 +213,7 @@ int cmd_bench(int argc, const char** argv) {
     }
     const std::string plotPath = ap["plot"].get<std::string>();
     if (!plotPath.empty()) write_plot(results, plotPath);
-    if (ap["glsl"].get<int>()) glsl_costs(ap["json"].get<int>() != 0);
+    if (ap["glsl"].get<int>()) print_glsl_costs(ap["json"].get<int>() != 0);
     return 0;
 }
 
