@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "backend.h"
 #include "check.h"
 #include "embedded_files.h"
 #include "gl_runner.h"
@@ -136,6 +137,56 @@ std::vector<GlslCost> glsl_costs() {
         const double secs =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         out.push_back({v.name, instr, n / secs});
+    }
+    return out;
+}
+
+// Relative L1 error of the node with `p` against the same node in the exact tier (double),
+// over the check query set's directions (sum |f - f_exact| / sum |f_exact|).
+double fidelity_error(const Params& p) {
+    Params exact = p;
+    exact.fidelity = 0;
+    double num = 0, den = 0;
+    for (Query q : check_query_set()) {
+        q.material = p;
+        const nlohmann::json a = answer_query(q, "cpp-double")["results"];
+        q.material = exact;
+        const nlohmann::json b = answer_query(q, "cpp-double")["results"];
+        for (size_t i = 0; i < a.size(); ++i)
+            for (int c = 0; c < 3; ++c) {
+                num += std::abs(a[i]["f"][c].get<double>() - b[i]["f"][c].get<double>());
+                den += std::abs(b[i]["f"][c].get<double>());
+            }
+    }
+    return den > 0 ? num / den : 0.0;
+}
+
+VariantChoice choose_variant(const Params& given, double maxError) {
+    const Params p = sanitize(given);
+    const bool hasSurface = p.specular > 0 && p.weight > 0;
+    const bool hasRetro =
+        (p.retro_color[0] > 0 || p.retro_color[1] > 0 || p.retro_color[2] > 0) && p.weight > 0;
+    const bool hasDiffuse =
+        (p.diffuse_color[0] > 0 || p.diffuse_color[1] > 0 || p.diffuse_color[2] > 0) &&
+        p.weight > 0;
+    Params fast = p;
+    fast.fidelity = 1;
+    VariantChoice out;
+    out.fastError = fidelity_error(fast);
+    for (const glsl::Variant& v : glsl::standard_variants()) {
+        if ((hasSurface && !v.surface) || (hasRetro && !v.retro) || (hasDiffuse && !v.diffuse))
+            continue;
+        if (v.era_mode >= 0 && v.era_mode != p.era_mode) continue;
+        if (v.prism_reflection >= 0 && v.prism_reflection != p.prism_reflection) continue;
+        const int fidelity = v.fidelity >= 0 ? v.fidelity : p.fidelity;
+        const double error = fidelity == 1 ? out.fastError : 0.0;
+        if (fidelity != p.fidelity && error > maxError) continue;
+        const long cost = glsl::spirv_instructions(embedded_variant(v.name), v.name);
+        out.candidates.push_back({v.name, cost, error});
+        if (cost > 0 && (out.chosenCost < 0 || cost < out.chosenCost)) {
+            out.chosenCost = cost;
+            out.chosen = v.name;
+        }
     }
     return out;
 }

@@ -1,7 +1,8 @@
 // trade.h: the speed/accuracy trade table's figures beside the benchmarks' times: each row's
 // error against the double reference over the standard direction pairs of `retroprism check`,
 // its retro lobe against the microgeometry simulator (docs/accuracy/results.csv), and the GLSL
-// variants' cost (SPIR-V size, llvmpipe throughput). `retroprism bench` prints them.
+// variants' cost (SPIR-V size, llvmpipe throughput), and the choice of the cheapest variant for
+// a material within an error. `retroprism bench` and `export` print them.
 #pragma once
 
 #include <string>
@@ -56,5 +57,26 @@ struct GlslCost {
     double evalsPerSecond = 0;
 };
 std::vector<GlslCost> glsl_costs();
+
+// Relative L1 error of the node with `p` against the same node in the exact tier (double),
+// over the check query set's directions (sum |f - f_exact| / sum |f_exact|).
+double fidelity_error(const Params& p);
+
+// The cheapest generated variant for a material whose error stays within maxError (`retroprism
+// export --max-error`): variants that fix a mode the material does not use, or leave out a
+// lobe it has, are out; the fast tier's error is measured for the material; cost is the SPIR-V
+// instruction count. `chosen` is empty when no variant fits.
+struct VariantCandidate {
+    std::string variant;
+    long spirvInstructions = -1;
+    double error = 0;
+};
+struct VariantChoice {
+    double fastError = 0;
+    std::vector<VariantCandidate> candidates; // in the order of glsl::standard_variants()
+    std::string chosen;
+    long chosenCost = -1;
+};
+VariantChoice choose_variant(const Params& p, double maxError);
 
 } // namespace retroprism::bench

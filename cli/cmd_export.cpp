@@ -1,5 +1,5 @@
-// retroprism export: writes the node's library for use in external pipelines: the MaterialX
-// node library (rp_pbrlib: nodedef + genglsl implementation) and the plain GLSL variants.
+// cmd_export.cpp: `retroprism export` writes the node's library for use in external pipelines: the
+// MaterialX node library (rp_pbrlib: nodedef + genglsl implementation) and the plain GLSL variants.
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -9,14 +9,12 @@
 
 #include <OpenImageIO/argparse.h>
 
-#include "check.h"
 #include "commands.h"
 #include "parse.h"
 #include "embedded_files.h"
-#include "glsl_gen.h"
 #include "mtlx_reader.h"
-#include "backend.h"
 #include "query.h"
+#include "trade.h"
 
 namespace retroprism {
 
@@ -80,62 +78,17 @@ void write_file(const fs::path& path, const std::string& text) {
     fs::rename(tmp, path);
 }
 
-// Relative L1 error of the node with `p` against the same node in the exact tier (double),
-// over the check query set's directions (sum |f - f_exact| / sum |f_exact|).
-double fidelity_error(const Params& p) {
-    Params exact = p;
-    exact.fidelity = 0;
-    double num = 0, den = 0;
-    for (Query q : check_query_set()) {
-        q.material = p;
-        const nlohmann::json a = answer_query(q, "cpp-double")["results"];
-        q.material = exact;
-        const nlohmann::json b = answer_query(q, "cpp-double")["results"];
-        for (size_t i = 0; i < a.size(); ++i)
-            for (int c = 0; c < 3; ++c) {
-                num += std::abs(a[i]["f"][c].get<double>() - b[i]["f"][c].get<double>());
-                den += std::abs(b[i]["f"][c].get<double>());
-            }
-    }
-    return den > 0 ? num / den : 0.0;
-}
-
-// The cheapest generated variant for a document's material whose error stays within maxError:
-// variants that fix a mode the material does not use, or leave out a lobe it has, are out;
-// the fast tier's error is measured for the material; cost is the SPIR-V instruction count.
-std::string choose_variant(const Params& given, double maxError) {
-    const Params p = sanitize(given);
-    const bool hasSurface = p.specular > 0 && p.weight > 0;
-    const bool hasRetro =
-        (p.retro_color[0] > 0 || p.retro_color[1] > 0 || p.retro_color[2] > 0) && p.weight > 0;
-    const bool hasDiffuse =
-        (p.diffuse_color[0] > 0 || p.diffuse_color[1] > 0 || p.diffuse_color[2] > 0) &&
-        p.weight > 0;
-    Params fast = p;
-    fast.fidelity = 1;
-    const double fastError = fidelity_error(fast);
-    std::printf("material: fast tier error %.3g (relative L1 against exact, %s)\n", fastError,
-                fastError <= maxError ? "within --max-error" : "above --max-error");
-    std::string best;
-    long bestCost = -1;
-    for (const glsl::Variant& v : glsl::standard_variants()) {
-        if ((hasSurface && !v.surface) || (hasRetro && !v.retro) || (hasDiffuse && !v.diffuse))
-            continue;
-        if (v.era_mode >= 0 && v.era_mode != p.era_mode) continue;
-        if (v.prism_reflection >= 0 && v.prism_reflection != p.prism_reflection) continue;
-        const int fidelity = v.fidelity >= 0 ? v.fidelity : p.fidelity;
-        const double error = fidelity == 1 ? fastError : 0.0;
-        if (fidelity != p.fidelity && error > maxError) continue;
-        const long cost = glsl::spirv_instructions(embedded_variant(v.name), v.name);
-        std::printf("  candidate %-50s SPIR-V %6ld  error %.3g\n", v.name.c_str(), cost, error);
-        if (cost > 0 && (bestCost < 0 || cost < bestCost)) {
-            bestCost = cost;
-            best = v.name;
-        }
-    }
-    if (best.empty()) throw InputError("export: no generated variant fits the material");
-    std::printf("chosen: %s (SPIR-V %ld instructions)\n", best.c_str(), bestCost);
-    return best;
+// The choice of bench/trade.h, printed: the fast tier's error, each candidate and the chosen.
+std::string print_variant_choice(const Params& p, double maxError) {
+    const bench::VariantChoice c = bench::choose_variant(p, maxError);
+    std::printf("material: fast tier error %.3g (relative L1 against exact, %s)\n", c.fastError,
+                c.fastError <= maxError ? "within --max-error" : "above --max-error");
+    for (const bench::VariantCandidate& v : c.candidates)
+        std::printf("  candidate %-50s SPIR-V %6ld  error %.3g\n", v.variant.c_str(),
+                    v.spirvInstructions, v.error);
+    if (c.chosen.empty()) throw InputError("export: no generated variant fits the material");
+    std::printf("chosen: %s (SPIR-V %ld instructions)\n", c.chosen.c_str(), c.chosenCost);
+    return c.chosen;
 }
 
 } // namespace
@@ -176,7 +129,7 @@ int cmd_export(int argc, const char** argv) {
             throw InputError("--max-error " + me + ": expected a relative error in [0, 1]");
         const MtlxDocument doc = read_mtlx(document);
         const MtlxMaterial& m = select_material(doc, ap["material"].get<std::string>());
-        const std::string chosen = choose_variant(m.params, *maxError);
+        const std::string chosen = print_variant_choice(m.params, *maxError);
         write_file(dir / "glsl" / ("selected_" + m.name + ".glsl"), embedded_variant(chosen));
         ++written;
     }
