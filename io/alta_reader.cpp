@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "query.h"
+#include "text_file.h"
 
 namespace retroprism {
 
@@ -148,11 +149,7 @@ AltaData parse_alta(const std::string& text, const std::string& name) {
 }
 
 AltaData read_alta(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError(path + ": cannot open file");
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return parse_alta(ss.str(), path);
+    return parse_alta(read_text_file(path), path);
 }
 
 } // namespace retroprism

@@ -11,6 +11,7 @@
 #include <pugixml.hpp>
 
 #include "query.h"
+#include "text_file.h"
 
 namespace retroprism {
 
@@ -439,11 +440,7 @@ MtlxDocument parse_mtlx(const std::string& text, const std::string& name) {
 }
 
 MtlxDocument read_mtlx(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError(path + ": cannot open file");
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return parse_mtlx(ss.str(), path);
+    return parse_mtlx(read_text_file(path), path);
 }
 
 const MtlxMaterial& select_material(const MtlxDocument& doc, const std::string& name) {

@@ -1,4 +1,5 @@
 #include "query.h"
+#include "text_file.h"
 
 #include <cmath>
 #include <fstream>
@@ -16,11 +17,7 @@ json read_json(const std::string& path) {
         ss << std::cin.rdbuf();
         text = ss.str();
     } else {
-        std::ifstream in(path, std::ios::binary);
-        if (!in) throw InputError(path + ": cannot open file");
-        std::stringstream ss;
-        ss << in.rdbuf();
-        text = ss.str();
+        text = read_text_file(path);
     }
     const std::string name = path == "-" ? "<stdin>" : path;
     // "file:line:column" of a byte offset.
