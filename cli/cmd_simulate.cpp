@@ -19,6 +19,7 @@
 #include "accuracy_report.h"
 #include "brdf_table_files.h"
 #include "commands.h"
+#include "text_file.h"
 #include "parse.h"
 #include "paths.h"
 #include "progress.h"
@@ -144,7 +145,7 @@ int study_command(int argc, const char** argv) {
     if (doc.extension() != ".md")
         throw InputError("--doc " + doc.string() + ": expected a .md file name");
     const std::string templatePath = data_path("docs/accuracy.md.in");
-    const std::string tmpl = report::read_text_file(templatePath);
+    const std::string tmpl = read_text_file(templatePath);
 
     const fs::path plotDir =
         (doc.parent_path().empty() ? fs::path(".") : doc.parent_path()) / "accuracy";

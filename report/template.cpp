@@ -47,12 +47,4 @@ std::string fill_template(const std::string& tmpl, const TemplateValues& values,
     return out;
 }
 
-std::string read_text_file(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError(path + ": cannot open file");
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
-
 } // namespace retroprism::report

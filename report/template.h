@@ -22,7 +22,4 @@ struct TemplateValues {
 std::string fill_template(const std::string& tmpl, const TemplateValues& values,
                           const std::string& where);
 
-// The text of a file; InputError when it cannot be read.
-std::string read_text_file(const std::string& path);
-
 } // namespace retroprism::report
