@@ -16,8 +16,10 @@ libraries="nodes util io glsl_gen backends sim analysis report bench"
 status=0
 
 sources=$(git ls-files '*.cpp' '*.h' '*.inc' | grep -v '^nodes/generated/' || true)
+# Debian's universal-ctags installs ctags-universal (and ctags through the alternatives system).
+ctags_bin=$(command -v ctags-universal || command -v ctags)
 # shellcheck disable=SC2086
-long=$(ctags --languages=C++ --c++-kinds=f --fields=+ne -o - $sources |
+long=$("$ctags_bin" --languages=C++ --c++-kinds=f --fields=+ne -o - $sources |
   awk -F'\t' -v max="$max_function" '{
     start = 0; end = 0
     for (i = 4; i <= NF; ++i) {
