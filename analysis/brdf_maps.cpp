@@ -4,8 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include <OpenImageIO/parallel.h>
-
+#include "parallel.h"
 #include "photometry.h"
 
 namespace retroprism {
@@ -42,7 +41,8 @@ std::vector<float> hemisphere_maps(const Node& node, const std::vector<double>& 
                                    Anomalies& anomalies) {
     const int panels = int(thetaIDeg.size()), width = panels * n, nch = 12;
     std::vector<float> data(size_t(width) * n * nch, 0.0f);
-    OIIO::parallel_for(0, n, [&](int32_t y) {
+    parallel_for(size_t(n), 0, [&](size_t yi) {
+        const int y = int(yi);
         const double v = 1.0 - (y + 0.5) * 2.0 / n;
         for (int k = 0; k < panels; ++k) {
             const vec3 wi = incident(thetaIDeg[size_t(k)]);
@@ -89,16 +89,16 @@ BrdfSlice brdf_slice(const Node& node, double thetaIDeg, int uniformSamples, Ano
     for (auto& v : sl.y)
         v.assign(sl.s.size(), 0.0);
     const vec3 wi = incident(thetaIDeg);
-    OIIO::parallel_for(0, int32_t(sl.s.size()), [&](int32_t i) {
-        const double a = sl.s[size_t(i)] * kDeg;
+    parallel_for(sl.s.size(), 0, [&](size_t i) {
+        const double a = sl.s[i] * kDeg;
         const vec3 wo(std::sin(a), 0.0, std::cos(a));
         const Node::Eval e = node.eval(wi, wo);
         anomalies.check(e.f, wi, wo);
         const double c = std::max(wo.z, 0.0);
-        sl.y[0][size_t(i)] = luminance_709(e.f.surface) * c;
-        sl.y[1][size_t(i)] = luminance_709(e.f.retro) * c;
-        sl.y[2][size_t(i)] = luminance_709(e.f.diffuse) * c;
-        sl.y[3][size_t(i)] = luminance_709(e.f.total()) * c;
+        sl.y[0][i] = luminance_709(e.f.surface) * c;
+        sl.y[1][i] = luminance_709(e.f.retro) * c;
+        sl.y[2][i] = luminance_709(e.f.diffuse) * c;
+        sl.y[3][i] = luminance_709(e.f.total()) * c;
     });
     return sl;
 }

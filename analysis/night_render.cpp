@@ -4,8 +4,7 @@
 #include <cmath>
 #include <mutex>
 
-#include <OpenImageIO/parallel.h>
-
+#include "parallel.h"
 #include "progress.h"
 
 using glm::dvec3;
@@ -192,7 +191,8 @@ NightImage render_night(const Params& material, const NightSettings& st) {
     std::atomic<int> rowsDone{0};
     std::mutex progressMutex;
     ProgressBar progress("render", "rows");
-    OIIO::parallel_for(0, st.height, [&](int32_t y) {
+    parallel_for(size_t(st.height), 0, [&](size_t yi) {
+        const int y = int(yi);
         for (int x = 0; x < st.width; ++x) {
             dvec3 sum[3] = {dvec3(0), dvec3(0), dvec3(0)};
             int hits = 0;

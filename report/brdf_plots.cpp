@@ -5,9 +5,9 @@
 #include <cmath>
 
 #include <OpenImageIO/imagebufalgo.h>
-#include <OpenImageIO/parallel.h>
 
 #include "figure.h"
+#include "parallel.h"
 #include "photometry.h"
 
 namespace retroprism::plot {
@@ -35,7 +35,8 @@ std::vector<float> hemisphere_logs(const PrismaticRetroreflector<double>& node,
                                    const std::vector<double>& thetas, int panel) {
     const int width = int(thetas.size()) * panel;
     std::vector<float> logs(size_t(width) * size_t(panel), NAN);
-    OIIO::parallel_for(0, panel, [&](int32_t y) {
+    parallel_for(size_t(panel), 0, [&](size_t yi) {
+        const int y = int(yi);
         const double v = 1.0 - (y + 0.5) * 2.0 / panel;
         for (size_t k = 0; k < thetas.size(); ++k) {
             const glm::dvec3 wi(std::sin(thetas[k] * kDeg), 0.0, std::cos(thetas[k] * kDeg));
