@@ -2,7 +2,6 @@
 #include "text_file.h"
 
 #include <cmath>
-#include <fstream>
 #include <iostream>
 #include <sstream>
 

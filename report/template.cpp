@@ -1,9 +1,6 @@
 // template.cpp: named-placeholder substitution (see template.h).
 #include "template.h"
 
-#include <fstream>
-#include <sstream>
-
 #include "error.h"
 
 namespace retroprism::report {
