@@ -53,33 +53,23 @@ std::vector<BackendResult> from_gl(const std::vector<gl::Result>& res) {
     return out;
 }
 
-// The generated full-runtime library on OpenGL: one context and program per process
-// (compiling takes llvmpipe a while).
-class GlslBackend final : public Backend {
+// A backend on OpenGL: the generated full-runtime library (gl::Runner) or the shader real
+// MaterialX generates (gl::MaterialXRunner, whose material is set through its uniforms). One
+// context and program per process: compiling takes llvmpipe a while.
+template <class Runner>
+class GlBackend final : public Backend {
   public:
-    GlslBackend() : runner_(gl::embedded_library()) {}
-    std::string name() const override { return "glsl"; }
+    GlBackend(std::string name, const std::string& source)
+        : name_(std::move(name)), runner_(source) {}
+    std::string name() const override { return name_; }
     std::vector<BackendResult> evaluate(const Params& p,
                                         const std::vector<DirectionPair>& pairs) override {
         return from_gl(runner_.evaluate(p, gl_pairs(pairs)));
     }
 
   private:
-    gl::Runner runner_;
-};
-
-// One MaterialX shader per process; each material is set through its uniforms.
-class MaterialXBackend final : public Backend {
-  public:
-    MaterialXBackend() : runner_(data_dir()) {}
-    std::string name() const override { return "materialx"; }
-    std::vector<BackendResult> evaluate(const Params& p,
-                                        const std::vector<DirectionPair>& pairs) override {
-        return from_gl(runner_.evaluate(p, gl_pairs(pairs)));
-    }
-
-  private:
-    gl::MaterialXRunner runner_;
+    std::string name_;
+    Runner runner_;
 };
 
 using Factory = std::function<std::unique_ptr<Backend>()>;
@@ -88,8 +78,10 @@ const std::vector<std::pair<std::string, Factory>>& registry() {
     static const std::vector<std::pair<std::string, Factory>> r = {
         {"cpp-double", [] { return std::make_unique<CppBackend<double>>("cpp-double"); }},
         {"cpp-float", [] { return std::make_unique<CppBackend<float>>("cpp-float"); }},
-        {"glsl", [] { return std::make_unique<GlslBackend>(); }},
-        {"materialx", [] { return std::make_unique<MaterialXBackend>(); }},
+        {"glsl",
+         [] { return std::make_unique<GlBackend<gl::Runner>>("glsl", gl::embedded_library()); }},
+        {"materialx",
+         [] { return std::make_unique<GlBackend<gl::MaterialXRunner>>("materialx", data_dir()); }},
     };
     return r;
 }
