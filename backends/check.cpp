@@ -41,6 +41,8 @@ std::vector<Params> check_materials() {
                 p.roughness = to_float(roughness[(k + j) % 5]);
                 p.ior = to_float(ior[(3 * k + j) % 6]);
                 p.orientation = to_float(j * 37.5);
+                // The paper's cube and canted ones, edge- and face-more-parallel.
+                p.cant_angle = j == 0 ? 0.0 : to_float(-34.0 + 17.0 * j);
                 p.diffuse_color = {to_float(0.9), to_float(0.5 + 0.1 * j), to_float(0.05)};
                 p.retro_color = {1.0, to_float(0.8), to_float(0.1 * j)};
                 p.specular = j == 3 ? 0.0 : to_float(1.0 - 0.2 * j);

@@ -174,6 +174,9 @@ std::vector<double> named_hard_values(const std::string& name) {
                 0.5,
                 0.0};
     }
+    if (name == "cant_angle") {
+        return {-30.0, 30.0, -30.000001, 30.000001, 1e-30, -1e-7, 15.0, -45.0, 90.0, 1e10, -1e10};
+    }
     if (name == "orientation") {
         return {30.0,   60.0, 90.0,  120.0, 180.0, 240.0, 300.0, 359.9, 359.99999,       720.0,
                 -720.0, 1e10, -1e10, 1e-7,  -1e-7, 0.5,   45.0,  1e20,  next_d(360, 0.0)};

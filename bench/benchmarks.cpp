@@ -24,7 +24,8 @@ namespace {
                 real(p.weight), vec3(p.diffuse_color[0], p.diffuse_color[1], p.diffuse_color[2]),  \
                 vec3(p.retro_color[0], p.retro_color[1], p.retro_color[2]), real(p.specular),      \
                 real(p.roughness), real(p.ior), p.prism_reflection, real(p.metal_reflectance),     \
-                p.era_mode, real(p.orientation), p.retro_lobe, p.reciprocal ? 1 : 0, p.fidelity);  \
+                p.era_mode, real(p.orientation), real(p.cant_angle), p.retro_lobe,                 \
+                p.reciprocal ? 1 : 0, p.fidelity);                                                 \
         }                                                                                          \
     };
 
@@ -257,6 +258,16 @@ const std::vector<Row>& rows() {
         out.push_back(node_row<AveragedTirFastF32>(
             "fast_tir_fixed", "fast", all3, "uncoated prisms, averaged ERA fixed at compile time",
             tirFast, tir, 7));
+        // Canted cube corners (cant_angle 10 deg): what the runtime cant costs when it is used.
+        Params canted = ideal, tirCanted = tir;
+        canted.cant_angle = 10.0;
+        tirCanted.cant_angle = 10.0;
+        out.push_back(node_row<Float>("exact_canted", "exact", all3,
+                                      "ideal prisms canted 10 deg, modes at run time", canted,
+                                      canted, 7));
+        out.push_back(node_row<Float>("exact_tir_canted", "exact", all3,
+                                      "uncoated prisms canted 10 deg, modes at run time", tirCanted,
+                                      tirCanted, 7));
         baselines::LambertT<float> lambert;
         baselines::BeckmannCookTorranceT<float> ct;
         ct.roughness = 0.05f;

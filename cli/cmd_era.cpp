@@ -17,7 +17,8 @@ int cmd_era(int argc, const char** argv) {
     OIIO::ArgParse ap;
     ap.intro("retroprism era: effective retroreflective area A of one inner direction (geometry "
              "alone, no face reflectance)")
-        .usage("retroprism era --theta-t DEG [--phi DEG] [--mode averaged|matched_pair|oriented]");
+        .usage("retroprism era --theta-t DEG [--phi DEG] [--mode averaged|matched_pair|oriented] "
+               "[--cant DEG]");
     ap.arg("--theta-t DEG")
         .dest("theta_t")
         .help("polar angle of the refracted direction inside the sheet, [0, 90)");
@@ -27,6 +28,10 @@ int cmd_era(int argc, const char** argv) {
     ap.arg("--mode MODE")
         .help("averaged (default), matched_pair or oriented")
         .defaultval("averaged");
+    const ParamInfo& cant = *find_param("cant_angle");
+    ap.arg("--cant DEG")
+        .help("cant angle of the cube corners (the node's cant_angle, default 0)")
+        .defaultval("0");
     int status = 0;
     if (!parse_command_args(ap, argc, argv, status)) return status;
     if (ap["theta_t"].get<std::string>().empty())
@@ -35,6 +40,8 @@ int cmd_era(int argc, const char** argv) {
     double phi = parse_number(ap["phi"].get<std::string>(), "--phi");
     if (thetaT < 0 || thetaT >= 90) throw InputError("--theta-t: must be in [0, 90) degrees");
     Params p;
+    p.cant_angle =
+        parse_number_in(ap["cant"].get<std::string>(), "--cant", cant.min_value, cant.max_value);
     p.era_mode = enum_index(*find_param("era_mode"), ap["mode"].get<std::string>());
     if (p.era_mode < 0)
         throw InputError("--mode " + ap["mode"].get<std::string>() +
@@ -44,8 +51,8 @@ int cmd_era(int argc, const char** argv) {
     const double t = thetaT * M_PI / 180.0, ph = phi * M_PI / 180.0;
     f64::vec3 d(std::sin(t) * std::cos(ph), std::sin(t) * std::sin(ph), -std::cos(t));
     double a = f64::rp_retro_fraction(m, d);
-    std::printf("theta_t %.6g deg  phi %.6g deg  mode %s  ERA %.9f\n", thetaT, phi,
-                ap["mode"].get<std::string>().c_str(), a);
+    std::printf("theta_t %.6g deg  phi %.6g deg  mode %s  cant %.6g deg  ERA %.9f\n", thetaT, phi,
+                ap["mode"].get<std::string>().c_str(), p.cant_angle, a);
     return 0;
 }
 

@@ -24,9 +24,9 @@ const char* const kFidelityConst[] = {"RP_FIDELITY_EXACT", "RP_FIDELITY_FAST"};
 
 const std::set<std::string>& known_features() {
     static const std::set<std::string> names = {
-        "surface",          "retro",          "diffuse",      "era_averaged",
-        "era_matched_pair", "era_oriented",   "prism_ideal",  "prism_tir",
-        "prism_metallized", "fidelity_exact", "fidelity_fast"};
+        "surface",          "retro",          "diffuse",       "era_averaged",
+        "era_matched_pair", "era_oriented",   "prism_ideal",   "prism_tir",
+        "prism_metallized", "fidelity_exact", "fidelity_fast", "canted"};
     return names;
 }
 
@@ -162,6 +162,7 @@ std::string to_glsl(std::string s, const Variant& v) {
     s = std::regex_replace(s, std::regex(R"(\bRP_TABLE_END\b)"), ");");
     s = std::regex_replace(s, std::regex(R"(\bRP_FN(_HOT|_COLD)? )"), "");
     s = std::regex_replace(s, std::regex(R"(\bRP_OUT\((\w+)\))"), "out $1");
+    s = std::regex_replace(s, std::regex(R"(\bRP_INOUT\((\w+)\))"), "inout $1");
     s = std::regex_replace(s, std::regex(R"(\bRP_IN\((\w+)\))"), "in $1");
     s = std::regex_replace(s, std::regex(R"(\breal\b)"), "float");
     return s;
@@ -201,6 +202,7 @@ std::string entry_point(const Variant& v) {
         fixed += "    prism_reflection = " + std::string(kPrismConst[v.prism_reflection]) + ";\n";
     if (v.fidelity >= 0)
         fixed += "    fidelity = " + std::string(kFidelityConst[v.fidelity]) + ";\n";
+    if (!v.canted) fixed += "    cant_angle = 0.0;\n";
     // The inputs in table order, as GLSL parameters and as arguments.
     std::string inputs = entry_signature();
     inputs = inputs.substr(0, inputs.find("vec3 wi,"));
@@ -223,7 +225,7 @@ std::string entry_point(const Variant& v) {
            "    rp_make_frame(normal, tangent, fN, fT, fB);\n"
            "    return rp_prepare(weight, diffuse_color, retro_color, specular, roughness, ior,\n"
            "                      prism_reflection, metal_reflectance, era_mode, orientation,\n"
-           "                      retro_lobe, reciprocal ? 1 : 0, fidelity);\n"
+           "                      cant_angle, retro_lobe, reciprocal ? 1 : 0, fidelity);\n"
            "}\n\n"
            "// The node, evaluated: f (1/sr, without the cosine) per lobe for wi (toward the "
            "light)\n"
@@ -285,7 +287,8 @@ std::string Variant::describe() const {
     return "lobes: " + lobes + "| era_mode: " + (era_mode < 0 ? "runtime" : kEraNames[era_mode]) +
            " | prism_reflection: " +
            (prism_reflection < 0 ? "runtime" : kPrismNames[prism_reflection]) +
-           " | fidelity: " + (fidelity < 0 ? "runtime" : kFidelityNames[fidelity]);
+           " | fidelity: " + (fidelity < 0 ? "runtime" : kFidelityNames[fidelity]) +
+           " | cant_angle: " + (canted ? "runtime" : "0");
 }
 
 std::vector<Variant> standard_variants() {
@@ -311,22 +314,24 @@ std::vector<Variant> standard_variants() {
         v.name = "prismatic_retroreflector_fast";
         out.push_back(v);
     }
-    // Fixed modes in the fast tier: the cheapest three-lobe nodes.
+    // Fixed modes in the fast tier, the paper's cube: the cheapest three-lobe nodes.
     for (int prism : {0, 1}) {
         Variant v;
         v.era_mode = 0;
         v.prism_reflection = prism;
         v.fidelity = 1;
+        v.canted = false;
         v.cpp = true;
         v.name = std::string("prismatic_retroreflector_averaged_") + kPrismNames[prism] + "_fast";
         out.push_back(v);
     }
-    // Every ERA mode with every prism reflection, all lobes.
+    // Every ERA mode with every prism reflection, all lobes, the paper's cube.
     for (int era = 0; era < 3; ++era)
         for (int prism = 0; prism < 3; ++prism) {
             Variant v;
             v.era_mode = era;
             v.prism_reflection = prism;
+            v.canted = false;
             v.name = std::string("prismatic_retroreflector_") + kEraNames[era] + "_" +
                      kPrismNames[prism];
             v.cpp = era == 0 && prism < 2;
@@ -382,6 +387,7 @@ std::set<std::string> features(const Variant& v) {
         if (i < 2 && (v.fidelity < 0 || v.fidelity == i))
             f.insert(std::string("fidelity_") + kFidelityNames[i]);
     }
+    if (v.canted) f.insert("canted");
     return f;
 }
 

@@ -20,6 +20,7 @@ struct Variant {
     int era_mode = -1;         // -1: chosen at run time by the era_mode input
     int prism_reflection = -1; // -1: chosen at run time by the prism_reflection input
     int fidelity = -1;         // -1: chosen at run time by the fidelity input
+    bool canted = true;        // false: cant_angle fixed at 0 (the canted code left out)
     bool cpp = false;          // also generated as C++ (cpp/<name>.inc in the build tree)
     std::string describe() const;
 };

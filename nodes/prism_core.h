@@ -14,6 +14,7 @@
 #define RP_FN_HOT inline __attribute__((always_inline))
 #define RP_FN_COLD __attribute__((noinline)) inline
 #define RP_OUT(T) T&
+#define RP_INOUT(T) T&
 #define RP_IN(T) const T&
 #define RP_TABLE_BEGIN(name, n) inline const real name[n] = {
 #define RP_TABLE_END                                                                               \

@@ -187,8 +187,8 @@ f64::rp_material prepare_material(const Params& p) {
     return f64::rp_prepare(
         p.weight, f64::vec3(p.diffuse_color[0], p.diffuse_color[1], p.diffuse_color[2]),
         f64::vec3(p.retro_color[0], p.retro_color[1], p.retro_color[2]), p.specular, p.roughness,
-        p.ior, p.prism_reflection, p.metal_reflectance, p.era_mode, p.orientation, p.retro_lobe,
-        p.reciprocal ? 1 : 0, p.fidelity);
+        p.ior, p.prism_reflection, p.metal_reflectance, p.era_mode, p.orientation, p.cant_angle,
+        p.retro_lobe, p.reciprocal ? 1 : 0, p.fidelity);
 }
 
 namespace {
@@ -221,6 +221,13 @@ f32::rp_material round_material<float>(const f64::rp_material& m) {
     r.vertex1 = f32::vec2(m.vertex1);
     r.vertex2 = f32::vec2(m.vertex2);
     r.vertex3 = f32::vec2(m.vertex3);
+    r.canted = m.canted;
+    r.face1 = f32::vec3(m.face1);
+    r.face2 = f32::vec3(m.face2);
+    r.face3 = f32::vec3(m.face3);
+    r.face_z = f32::vec3(m.face_z);
+    r.face_xy = f32::vec3(m.face_xy);
+    r.face_phi = f32::vec3(m.face_phi);
     r.retro_anisotropic = m.retro_anisotropic;
     r.reciprocal = m.reciprocal;
     r.fidelity = m.fidelity;

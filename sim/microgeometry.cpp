@@ -1,6 +1,8 @@
 // microgeometry.cpp: the microgeometry simulator (see microgeometry.h for what is simulated).
 #include "microgeometry.h"
 
+#include "cube_corner.h"
+
 #include "linalg.h"
 #include "parallel.h"
 
@@ -42,6 +44,7 @@ Sheet sheet_from_params(const Params& raw, int channel) {
     s.metal_reflectance = p.metal_reflectance;
     s.era_mode = p.era_mode;
     s.orientation_deg = p.orientation;
+    s.cant_deg = p.cant_angle;
     s.kd = p.diffuse_color[size_t(std::clamp(channel, 0, 2))];
     return s;
 }
@@ -201,6 +204,8 @@ PrismOutcome trace_prism(const Sheet& sheet, const dvec3& d, Rng& rng) {
     } else if (sheet.era_mode == f64::RP_ERA_MATCHED_PAIR) {
         if (rng.uniform() < 0.5) psi += kPi;
     }
+    if (sheet.cant_deg != 0.0)
+        return trace_cube_corner(sheet, canted_cube_corner(sheet.cant_deg, psi), d, rng);
     // Vertex directions v_k at psi + 120 k degrees; b_k = d.e_k, e_k = (sqrt(2/3) v_k, 1/sqrt3).
     const double c0 = std::cos(psi), s0 = std::sin(psi);
     const double vx[3] = {c0, -0.5 * c0 - kSin120 * s0, -0.5 * c0 + kSin120 * s0};

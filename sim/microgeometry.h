@@ -18,13 +18,13 @@
 //     higher orders are tallied separately (the analytic model has none).
 //  2. A ray refracted into the sheet meets a cube corner (apex O, faces with normals
 //     e_k = (sqrt(2/3) v_k, 1/sqrt3), v_k the aperture vertex directions of the prism's
-//     orientation) at a uniformly distributed point of its aperture triangle and is traced
-//     exactly: each face hit reflects (ideal: always; tir: with the internal Fresnel reflectance
-//     at the hit's cosine, else the ray is transmitted through the face; metallized: with
-//     metal_reflectance, else it is absorbed). After one reflection on each of the three faces
-//     the ray leaves along -d (retroreflected) and goes back up to the top surface. The
-//     orientation: fixed (era_mode oriented), one of the matched pair (probability 1/2 each), or
-//     uniformly random per encounter (averaged).
+//     orientation; a canted cube's in sim/cube_corner.h) at a uniformly distributed point of its
+//     aperture triangle and is traced exactly: each face hit reflects (ideal: always; tir: with the
+//     internal Fresnel reflectance at the hit's cosine, else the ray is transmitted through the
+//     face; metallized: with metal_reflectance, else it is absorbed). After one reflection on each
+//     of the three faces the ray leaves along -d (retroreflected) and goes back up to the top
+//     surface. The orientation: fixed (era_mode oriented), one of the matched pair (probability 1/2
+//     each), or uniformly random per encounter (averaged).
 //  3. A ray that is not retroreflected (it leaves the aperture after one or two reflections, or
 //     is transmitted through a face) is handed to the Lambertian substrate below the prisms:
 //     MODEL.md's layer abstraction ("light refracted in but not retroreflected reaches the
@@ -89,6 +89,7 @@ struct Sheet {
     double metal_reflectance = 0.88; // one metallized face
     int era_mode = f64::RP_ERA_AVERAGED;
     double orientation_deg = 0.0; // of one aperture vertex from the tangent (+x)
+    double cant_deg = 0.0;        // cant_angle: 0 the paper's cube, else sim/cube_corner.h
     double kd = 0.9;              // substrate albedo, one channel
     bool upward_through_prisms = true;
 };

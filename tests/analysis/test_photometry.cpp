@@ -100,6 +100,7 @@ Doc valid_doc() {
         R"(    <input name="metal_reflectance" type="float" value="0.9"/>)",
         R"(    <input name="era_mode" type="string" value="oriented"/>)",
         R"(    <input name="orientation" type="float" value="30"/>)",
+        R"(    <input name="cant_angle" type="float" value="-12.5"/>)",
         R"(    <input name="retro_lobe" type="string" value="anisotropic"/>)",
         R"(    <input name="reciprocal" type="boolean" value="true"/>)",
         R"(    <input name="weight" type="float" value="0.75"/>)",
@@ -379,6 +380,7 @@ TEST_CASE("MaterialX reader: a valid document gives exactly its parameters", "[p
     e.metal_reflectance = 0.9;
     e.era_mode = 2;
     e.orientation = 30.0;
+    e.cant_angle = -12.5;
     e.retro_lobe = 1;
     e.reciprocal = true;
     e.weight = 0.75;
@@ -417,7 +419,7 @@ TEST_CASE("MaterialX reader: a valid document gives exactly its parameters", "[p
     Doc minimal = valid_doc();
     for (const char* in : {"roughness", "ior", "diffuse_color", "retro_color", "specular",
                            "prism_reflection", "metal_reflectance", "era_mode", "orientation",
-                           "retro_lobe", "reciprocal", "weight", "normal"}) {
+                           "cant_angle", "retro_lobe", "reciprocal", "weight", "normal"}) {
         const int l = minimal.line_of(std::string("name=\"") + in + "\"");
         minimal.lines.erase(minimal.lines.begin() + (l - 1));
     }

@@ -81,6 +81,7 @@ const std::map<std::string, Variation>& variations() {
         {"era_mode", {[](Params&) {}, [](Params& p) { p.era_mode = 2; }}},
         {"orientation",
          {[](Params& p) { p.era_mode = 2; }, [](Params& p) { p.orientation = 30.0; }}},
+        {"cant_angle", {[](Params&) {}, [](Params& p) { p.cant_angle = 15.0; }}},
         {"retro_lobe", {[](Params&) {}, [](Params& p) { p.retro_lobe = 1; }}},
         {"reciprocal", {[](Params&) {}, [](Params& p) { p.reciprocal = true; }}},
         {"fidelity", {[](Params& p) { p.roughness = 0.3; }, [](Params& p) { p.fidelity = 1; }}},

@@ -42,7 +42,7 @@ fs::path write_temp(const std::string& name, const std::string& text) {
 
 TEST_CASE("eval answers the library's values, per backend", "[cli]") {
     const std::string query = R"({"material": {"roughness": 0.1, "ior": 1.586,
-        "prism_reflection": "tir", "era_mode": "oriented", "orientation": 40,
+        "prism_reflection": "tir", "era_mode": "oriented", "orientation": 40, "cant_angle": 12,
         "diffuse_color": [0.9, 0.8, 0.1], "retro_color": [1, 0.9, 0.2]},
       "samples": [{"wi": [0.3, 0.1, 0.9], "wo": [0.3, 0.1, 0.9]},
                   {"wi_deg": [30, 0], "wo_deg": [30, 0]},
@@ -144,6 +144,17 @@ TEST_CASE("era and albedo commands", "[cli]") {
     Run badTheta = run("era --theta-t 95");
     CHECK(badTheta.status != 0);
     CHECK(contains(badTheta.output, "--theta-t: must be in [0, 90) degrees"));
+    // Canted cubes at normal incidence: MODEL.md section 8's checked values (4 decimals).
+    const std::pair<const char*, const char*> canted[] = {
+        {"-10", "ERA 0.5295"}, {"10", "ERA 0.4908"}, {"20", "ERA 0.2108"}};
+    for (const auto& [cant, era] : canted) {
+        Run c = run(std::string("era --theta-t 0 --cant ") + cant);
+        REQUIRE(c.status == 0);
+        CHECK(contains(c.output, era));
+    }
+    Run badCant = run("era --theta-t 10 --cant 40");
+    CHECK(badCant.status != 0);
+    CHECK(contains(badCant.output, "--cant 40: expected a number in [-30, 30]"));
 
     Run albedo = run("albedo --theta-i 0 45");
     REQUIRE(albedo.status == 0);

@@ -61,6 +61,8 @@ TEST_CASE("Specialised variants leave out the code they do not use", "[glsl]") {
         CHECK(has("rp_fdr_ext_table") == v.diffuse);
         const bool averaged = v.era_mode < 0 || v.era_mode == 0;
         CHECK(has("rp_era_avg_table") == averaged);
+        CHECK(has("rp_era_averaged_canted") == (v.canted && averaged));
+        if (!v.canted) CHECK_FALSE(has("m.canted !="));
         const bool tir = v.prism_reflection < 0 || v.prism_reflection == 1;
         CHECK(has("rp_face_reflectance_tir") == tir);
         CHECK(has("rp_beckmann_lambda_fast") == (v.fidelity != 0));
@@ -105,8 +107,16 @@ TEST_CASE("Every variant compiles as GLSL 4.50, ESSL 3.00 and Vulkan GLSL", "[gl
 TEST_CASE("Each specialised variant computes what the C++ reference computes", "[glsl]") {
     const ToleranceContract contract;
     const std::vector<Query> queries = check_query_set();
-    long total = 0, leftOutNonZero = 0, leftOutValues = 0;
+    long total = 0, leftOutNonZero = 0, leftOutValues = 0, bitCompared = 0, bitDiffering = 0;
     double worstAll = 0;
+    // The full variant (cant_angle at run time) against the same variant with the cant fixed at
+    // 0 at generation time (the canted code left out), bit for bit: a cant_angle of 0 leaves
+    // the paper's cube's code unchanged.
+    const glsl::Variant fullVariant = glsl::standard_variants().front();
+    glsl::Variant uncanted = fullVariant;
+    uncanted.canted = false;
+    gl::Runner full(glsl::generate_library(fullVariant, RP_SOURCE_DIR));
+    gl::Runner paperCube(glsl::generate_library(uncanted, RP_SOURCE_DIR));
     for (const glsl::Variant& v : glsl::standard_variants()) {
         INFO(v.name);
         gl::Runner runner(glsl::generate_library(v, RP_SOURCE_DIR));
@@ -117,10 +127,22 @@ TEST_CASE("Each specialised variant computes what the C++ reference computes", "
             if (v.era_mode >= 0) q.material.era_mode = v.era_mode;
             if (v.prism_reflection >= 0) q.material.prism_reflection = v.prism_reflection;
             if (v.fidelity >= 0) q.material.fidelity = v.fidelity;
+            if (!v.canted) q.material.cant_angle = 0.0;
             std::vector<std::array<Vec3d, 2>> pairs;
             for (const DirectionPair& s : q.samples)
                 pairs.push_back({s.wi, s.wo});
             const std::vector<gl::Result> got = runner.evaluate(q.material, pairs);
+            if (v.name == fullVariant.name) {
+                Params flat = q.material;
+                flat.cant_angle = 0.0;
+                const std::vector<gl::Result> a = full.evaluate(flat, pairs);
+                const std::vector<gl::Result> b = paperCube.evaluate(flat, pairs);
+                for (size_t i = 0; i < a.size(); ++i) {
+                    bitDiffering += a[i].surface != b[i].surface || a[i].retro != b[i].retro ||
+                                    a[i].diffuse != b[i].diffuse || a[i].pdf != b[i].pdf;
+                    ++bitCompared;
+                }
+            }
             const nlohmann::json ref = answer_query(q, "cpp-double")["results"];
             const bool on[3] = {v.surface, v.retro, v.diffuse};
             const char* keys[3] = {"surface", "retro", "diffuse"};
@@ -164,10 +186,13 @@ TEST_CASE("Each specialised variant computes what the C++ reference computes", "
     }
     CHECK(leftOutValues > 0);
     CHECK(leftOutNonZero == 0);
+    CHECK(bitCompared > 0);
+    CHECK(bitDiffering == 0);
     std::printf("MEASURED: %zu GLSL variants on %s: %ld samples, worst lobe relative error %.3g; "
-                "%ld values of left-out lobes, %ld non-zero\n",
+                "%ld values of left-out lobes, %ld non-zero; cant_angle 0 in the full variant vs "
+                "the same with the cant fixed at 0: %ld samples, %ld differing\n",
                 glsl::standard_variants().size(), "llvmpipe", total, worstAll, leftOutValues,
-                leftOutNonZero);
+                leftOutNonZero, bitCompared, bitDiffering);
 }
 
 TEST_CASE("No EGL, a clear error", "[glsl]") {
