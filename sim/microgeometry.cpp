@@ -521,7 +521,16 @@ int Grid::cell_of(const dvec3& w) const {
         if ((y1 >= 0 && t > y1) || (y0 <= 0 && t < y0)) return -1;
     }
     double x, y;
-    if (!params(w, x, y)) return -1;
+    if (kind == kGnomonic) {
+        // params' gnomonic case, inline: slopes, rejected before the second division.
+        const double cp = glm::dot(w, c);
+        if (!(cp > 0)) return -1;
+        x = glm::dot(w, e1) / cp;
+        if (!(x >= x0 && x < x1)) return -1;
+        y = glm::dot(w, e2) / cp;
+    } else if (!params(w, x, y)) {
+        return -1;
+    }
     if (!(x >= x0 && x < x1 && y >= y0 && y < y1)) {
         // The disk's outer edge (x or y = 1) belongs to the last cell.
         if (kind == kDisk && x >= x0 && x <= x1 && y >= y0 && y <= y1) {
