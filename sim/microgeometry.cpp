@@ -118,7 +118,11 @@ double next_height(const dvec3& w, double h, double u, double alpha) {
     double c;
     if (w.z > 0) {
         if (!(lambda > 0)) return kInf;
-        const double q = std::pow(1.0 - u, 1.0 / lambda);
+        const double e = 1.0 / lambda, x = 1.0 - u;
+        // pow's value when it underflows (x <= 1/2 and e >= 1075: q <= 2^-1075 rounds to 0),
+        // without its slow underflow path: the ray leaves (c1 >= 0 = q).
+        if (x <= 0.5 && e >= 1075.0) return kInf;
+        const double q = std::pow(x, e);
         if (q <= c1) return kInf;
         c = c1 / q;
     } else if (lambda == -1.0) {
