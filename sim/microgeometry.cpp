@@ -180,8 +180,8 @@ void uniform_rotation(Rng& rng, double& c, double& s) {
 // (x < 0 only), of masses cosT sqrt(pi) and sinT / 2: for x < 0, q = p; for x > 0,
 // p / q = (1 - x tanT)_+. The Gaussian component draws from `gauss` (an iid stream of
 // N(0, 1/2)), the other is -sqrt(-log U) (P(|x| > t) = exp(-t^2)). Acceptance is
-// mass(p) / mass(q) >= 0.86 for every view (0.865 at 62.7 degrees) (1 at normal and grazing views), and no exp or erfc
-// is evaluated.
+// mass(p) / mass(q): 1 at normal and grazing views, 0.865 at worst (62.7 degrees); no exp or
+// erfc is evaluated.
 template <class Gauss>
 double visible_slope_x_above(double cosT, double sinT, Rng& rng, Gauss& gauss) {
     const double wGauss = cosT * kSqrtPi;
@@ -312,8 +312,8 @@ PrismOutcome trace_prism(const Sheet& sheet, const dvec3& d, Rng& rng) {
     for (int k = 0; k < 3; ++k) {
         if (!(b[k] < 0)) continue;
         const double t = a[k] / -b[k];
-        const double sAt = std::abs(a[0] + t * b[0]) + std::abs(a[1] + t * b[1]) +
-                           std::abs(a[2] + t * b[2]);
+        const double sAt =
+            std::abs(a[0] + t * b[0]) + std::abs(a[1] + t * b[1]) + std::abs(a[2] + t * b[2]);
         if (sAt < 1.0) cosHit[reflections++] = -b[k];
     }
     // Each hit reflects independently with its probability (tir: the internal Fresnel
@@ -519,8 +519,8 @@ int Grid::cell_of(const dvec3& w) const {
     if (kind == kCone) return glm::dot(w, c) >= std::cos(x1) ? 0 : -1;
     if (kind == kStrip) {
         // Most directions are far outside the band: y = asin(t), t = w.e2, and |asin t| >= |t|
-        // (also as computed: a faithfully rounded asin(t) is still >= t, t being representable), so t > y1 >= 0 or
-        // t < y0 <= 0 is outside without the asin and atan2 of params.
+        // (also as computed: a faithfully rounded asin(t) is still >= t, t being representable), so
+        // t > y1 >= 0 or t < y0 <= 0 is outside without the asin and atan2 of params.
         const double t = glm::dot(w, e2);
         if ((y1 >= 0 && t > y1) || (y0 <= 0 && t < y0)) return -1;
     }

@@ -192,20 +192,25 @@ TEST_CASE("Visible slopes follow the closed-form density: chi-square per view", 
                 return 0.5 * (lo + h);
             };
             for (int i = 0; i <= nx; ++i)
-                xEdge[size_t(i)] = i == 0 ? -1e300 : i == nx ? 1e300 : quantile(cdf, double(i) / nx, hi);
+                xEdge[size_t(i)] = i == 0    ? -1e300
+                                   : i == nx ? 1e300
+                                             : quantile(cdf, double(i) / nx, hi);
             for (int j = 0; j <= ny; ++j)
-                yEdge[size_t(j)] = j == 0    ? -1e300
-                                   : j == ny ? 1e300
-                                             : quantile([](double y) { return 0.5 * std::erfc(-y); },
-                                                        double(j) / ny, 30.0);
+                yEdge[size_t(j)] = j == 0 ? -1e300
+                                   : j == ny
+                                       ? 1e300
+                                       : quantile([](double y) { return 0.5 * std::erfc(-y); },
+                                                  double(j) / ny, 30.0);
             std::vector<double> count(size_t(nx * ny), 0.0);
             sim::Rng rng(11, std::uint64_t(thetaDeg * 10 + alpha * 1000));
             for (int k = 0; k < samples; ++k) {
                 const dvec3 m = sim::sample_visible_normal(w, alpha, rng);
                 const dvec3 slope = -m / m.z;
                 const double x = glm::dot(slope, u) / alpha, y = glm::dot(slope, v) / alpha;
-                const int i = int(std::upper_bound(xEdge.begin(), xEdge.end(), x) - xEdge.begin()) - 1;
-                const int j = int(std::upper_bound(yEdge.begin(), yEdge.end(), y) - yEdge.begin()) - 1;
+                const int i =
+                    int(std::upper_bound(xEdge.begin(), xEdge.end(), x) - xEdge.begin()) - 1;
+                const int j =
+                    int(std::upper_bound(yEdge.begin(), yEdge.end(), y) - yEdge.begin()) - 1;
                 REQUIRE(i >= 0);
                 REQUIRE(i < nx);
                 REQUIRE(j >= 0);
@@ -225,7 +230,8 @@ TEST_CASE("Visible slopes follow the closed-form density: chi-square per view", 
                 worst);
 }
 
-TEST_CASE("The cube corner's closed form (faces hit from the unfolded path) is its trace", "[sim]") {
+TEST_CASE("The cube corner's closed form (faces hit from the unfolded path) is its trace",
+          "[sim]") {
     // trace_prism finds the faces a ray hits from the unfolded straight path; the reference
     // here traces it face by face (the first boundary plane met, reflect, repeat). Oriented
     // prisms draw only the entry point (u, v), so with ideal faces both must give the same
