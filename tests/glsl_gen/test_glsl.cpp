@@ -107,7 +107,12 @@ TEST_CASE("Each specialised variant computes what the C++ reference computes", "
     const std::vector<Query> queries = check_query_set();
     long total = 0, leftOutNonZero = 0, leftOutValues = 0;
     double worstAll = 0;
-    for (const glsl::Variant& v : glsl::standard_variants()) {
+    // The full variant is the glsl backend's library (the first test case): [backend] checks it
+    // against the same query set under the whole contract, so it is not run again here.
+    const std::vector<glsl::Variant> all = glsl::standard_variants();
+    REQUIRE(all.front().name == "prismatic_retroreflector");
+    const std::vector<glsl::Variant> specialised(all.begin() + 1, all.end());
+    for (const glsl::Variant& v : specialised) {
         INFO(v.name);
         gl::Runner runner(glsl::generate_library(v, RP_SOURCE_DIR));
         long samples = 0, over = 0;
@@ -164,10 +169,9 @@ TEST_CASE("Each specialised variant computes what the C++ reference computes", "
     }
     CHECK(leftOutValues > 0);
     CHECK(leftOutNonZero == 0);
-    std::printf("MEASURED: %zu GLSL variants on %s: %ld samples, worst lobe relative error %.3g; "
-                "%ld values of left-out lobes, %ld non-zero\n",
-                glsl::standard_variants().size(), "llvmpipe", total, worstAll, leftOutValues,
-                leftOutNonZero);
+    std::printf("MEASURED: %zu specialised GLSL variants on %s: %ld samples, worst lobe relative "
+                "error %.3g; %ld values of left-out lobes, %ld non-zero\n",
+                specialised.size(), "llvmpipe", total, worstAll, leftOutValues, leftOutNonZero);
 }
 
 TEST_CASE("No EGL, a clear error", "[glsl]") {
