@@ -28,7 +28,6 @@ void csv_columns(Result& r, Visit&& visit) {
     visit("ior", r.c.eta);
     visit("prism_reflection", r.c.prism);
     visit("rays", s.rays);
-    visit("sim_seconds", s.seconds);
     visit("sim_retro_peak", s.peak.value);
     visit("sim_retro_peak_se", s.peak.se);
     visit("sim_fit_alpha_par", s.fit.ax);
