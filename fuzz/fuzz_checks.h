@@ -467,9 +467,10 @@ inline void check_alta(const std::uint8_t* data, size_t size) {
     }
 }
 
-// The accuracy study's files (sim/study_results.h): the archive of `simulate --study --load`
-// and results.csv. Either reader returns the whole grid or throws an InputError naming the
-// file; nothing else (no crash, no other exception, no partial result).
+// The accuracy study's files (sim/study_results.h): the archive of `simulate --study --load`,
+// a shard's partial results (`--merge`) and results.csv. Each reader returns the whole grid (a
+// shard: K/N in range, its units in order) or throws an InputError naming the file; nothing
+// else (no crash, no other exception, no partial result).
 inline void check_study(const std::uint8_t* data, size_t size) {
     const std::string text(reinterpret_cast<const char*>(data), size);
     for (const bool quick : {true, false}) {
@@ -485,6 +486,24 @@ inline void check_study(const std::uint8_t* data, size_t size) {
                 throw Violation(std::string("parse_study's error does not name the file: ") +
                                 e.what());
         }
+    }
+    const std::string shardName = "fuzz_shard.txt";
+    std::istringstream shardIn(text);
+    try {
+        const retroprism::sim::StudyShard s =
+            retroprism::sim::parse_study_shard(shardIn, shardName);
+        const size_t units = retroprism::sim::study_units(s.options).size();
+        if (!(s.shard.k >= 1 && s.shard.k <= s.shard.n && size_t(s.shard.n) <= units))
+            throw Violation("parse_study_shard returned shard " + std::to_string(s.shard.k) + "/" +
+                            std::to_string(s.shard.n) + " of a study of " + std::to_string(units) +
+                            " units");
+        for (size_t j = 0; j < s.units.size(); ++j)
+            if (s.units[j].index >= units || (j > 0 && s.units[j].index <= s.units[j - 1].index))
+                throw Violation("parse_study_shard returned units out of order or range");
+    } catch (const retroprism::InputError& e) {
+        if (!names(e.what(), shardName))
+            throw Violation(std::string("parse_study_shard's error does not name the file: ") +
+                            e.what());
     }
     const std::string csvName = "fuzz_results.csv";
     std::istringstream csv(text);
