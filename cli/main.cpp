@@ -35,6 +35,8 @@ const Command kCommands[] = {
      "coefficient of retroreflection table"},
     {"fit", cmd_fit, "DATA.dat | --ra TABLE.csv [--json] [--plot OUT.png] [--mtlx OUT.mtlx]\n",
      "fit the node and the MaterialX retro GGX to measurements or an R_A table"},
+    {"approach", cmd_approach, "DOC.mtlx --table TABLE.csv --out DIR\n",
+     "a preset against the GGX fitted to its table: night previews, luminance on approach"},
     {"simulate", cmd_simulate,
      "--theta-i DEG... [--material FILE.json] [--rays N] [--out PREFIX]\n",
      "microgeometry Monte Carlo: the ground-truth BRDF"},

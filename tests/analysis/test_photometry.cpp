@@ -3,7 +3,8 @@
 // reader (errors naming file:line, files without #PARAM_OUT); the fitter recovering known
 // parameters of both models from synthetic data; the R_A table reader (every error naming
 // file:line and the expected form) and the R_A fit recovering the fittable inputs; `retroprism
-// ra`, `fit --json`, `fit --ra` and `render` end to end (no output on a bad input).
+// ra`, `fit --json`, `fit --ra` and `render` end to end (no output on a bad input); a sign's
+// luminance on approach.
 #include <catch2/catch.hpp>
 
 #include <unistd.h>
@@ -22,9 +23,11 @@
 #include <nlohmann/json.hpp>
 
 #include "alta_reader.h"
+#include "approach.h"
 #include "baselines.h"
 #include "fitting.h"
 #include "mtlx_reader.h"
+#include "night_render.h"
 #include "photometry.h"
 #include "query.h"
 #include "ra_fit.h"
@@ -1231,4 +1234,39 @@ TEST_CASE("ALTA file without #PARAM_OUT: read as BRDF x cos(theta_v) with a warn
     CHECK(contains(r.output, "warning: " + (dir / "no_param_out.dat").string() +
                                  ": no #PARAM_OUT before the data"));
     fs::remove_all(dir);
+}
+
+TEST_CASE("A sign's luminance on approach: the driver's geometry and L = R_A E / cos(theta_o)",
+          "[photometry]") {
+    Params p;
+    p.roughness = 0.01;
+    ApproachSettings s;
+    const std::vector<ApproachPoint> a = approach_luminance(node_lobes(p), s);
+    REQUIRE(a.size() == size_t(s.steps));
+    CHECK(a.front().distance == s.far_m);
+    CHECK(a.back().distance == s.near_m);
+    // The 30 m geometry of ASTM E1710: observation angle 1.05 degrees (the sign's offset from
+    // the road's axis changes it by a few thousandths).
+    CHECK(a.back().observation_deg == Approx(1.05).margin(0.02));
+    CHECK(a.front().observation_deg == Approx(std::atan(0.55 / 300.0) / kDeg).epsilon(0.02));
+    for (const ApproachPoint& q : a) {
+        const double r2 =
+            q.distance * q.distance + s.sign_right * s.sign_right + s.sign_up * s.sign_up;
+        // cos(theta_o) of the eye is that of the lamp to within the observation angle.
+        const double cosO = std::cos(q.entrance_deg * kDeg);
+        CHECK(q.luminance == Approx(q.ra * s.lamp_cd / r2 / cosO).epsilon(2e-3));
+    }
+    // The luminance scales with the lamp; the R_A does not.
+    ApproachSettings bright = s;
+    bright.lamp_cd = 2 * s.lamp_cd;
+    const std::vector<ApproachPoint> b = approach_luminance(node_lobes(p), bright);
+    CHECK(b[10].luminance == Approx(2 * a[10].luminance).epsilon(1e-12));
+    CHECK(b[10].ra == a[10].ra);
+    // The baseline's lobes: its f.
+    baselines::RetroreflectiveGGX m;
+    const LobeBrdf lobes = mrm_lobes(m);
+    const glm::dvec3 wi(0.3, 0.1, std::sqrt(0.9)), wo(0.2, 0.0, std::sqrt(0.96));
+    glm::dvec3 l[3];
+    lobes(wi, wo, l);
+    CHECK(luminance_709(l[0] + l[1] + l[2]) == Approx(luminance_709(m.f(wi, wo))).epsilon(1e-12));
 }
