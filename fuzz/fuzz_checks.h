@@ -18,7 +18,10 @@
 //  - mtlx: the bytes are a MaterialX document; parse_mtlx either returns documents whose
 //    parameters are within the table's ranges or throws an InputError naming the file;
 //  - alta: the bytes are an ALTA file; parse_alta either returns samples within the
-//    documented ranges or throws an InputError naming the file.
+//    documented ranges or throws an InputError naming the file;
+//  - ra_table: the bytes are an R_A table (CSV); parse_ra_table either returns entries within
+//    the documented ranges, at least one, no two with the same angles, or throws an InputError
+//    naming the file and a line.
 #pragma once
 
 #include <array>
@@ -40,6 +43,7 @@
 #include "mtlx_reader.h"
 #include "prismatic_retroreflector.h"
 #include "query.h"
+#include "ra_table.h"
 #include "study_results.h"
 
 namespace rpfuzz {
@@ -464,6 +468,39 @@ inline void check_alta(const std::uint8_t* data, size_t size) {
             if (!std::isfinite(v)) throw Violation(at + ": a non-finite direction or value");
         if (!(wi.z > 0) || !(wo.z >= -1e-9))
             throw Violation(at + ": a direction below the horizon");
+    }
+}
+
+inline void check_ra_table(const std::uint8_t* data, size_t size) {
+    const std::string name = "fuzz_table.csv";
+    std::istringstream in(std::string(reinterpret_cast<const char*>(data), size));
+    retroprism::RaMeasurements t;
+    try {
+        t = retroprism::parse_ra_table(in, name);
+    } catch (const retroprism::InputError& e) {
+        if (std::string(e.what()).rfind(name + ":", 0) != 0)
+            throw Violation(std::string("parse_ra_table's error does not start with FILE:LINE: ") +
+                            e.what());
+        return;
+    } catch (const std::exception& e) {
+        throw Violation(std::string("parse_ra_table threw ") + typeid(e).name() + ": " + e.what());
+    }
+    if (t.entries.empty()) throw Violation("parse_ra_table returned no entries");
+    for (size_t i = 0; i < t.entries.size(); ++i) {
+        const retroprism::RaEntry& e = t.entries[i];
+        const std::string at = name + ":" + std::to_string(e.line);
+        if (!(e.observation_deg > 0 && e.observation_deg <= 5) ||
+            !(e.entrance_deg > -90 && e.entrance_deg < 90) || !(e.ra > 0 && std::isfinite(e.ra)) ||
+            !(e.presentation_deg >= -180 && e.presentation_deg <= 180) ||
+            (e.rotation_deg && !(*e.rotation_deg >= -360 && *e.rotation_deg <= 360)))
+            throw Violation(at + ": an entry outside the documented ranges passed the reader");
+        for (size_t k = 0; k < i; ++k) {
+            const retroprism::RaEntry& p = t.entries[k];
+            if (p.observation_deg == e.observation_deg && p.entrance_deg == e.entrance_deg &&
+                p.rotation_deg == e.rotation_deg && p.presentation_deg == e.presentation_deg)
+                throw Violation(at + ": a duplicate of line " + std::to_string(p.line) +
+                                " passed the reader");
+        }
     }
 }
 

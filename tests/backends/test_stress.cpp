@@ -168,11 +168,9 @@ TEST_CASE("the fuzz corpus replays cleanly", "[stress]") {
         const char* name;
         void (*check)(const std::uint8_t*, size_t);
     };
-    const Target targets[] = {{"closure", rpfuzz::check_closure},
-                              {"query", rpfuzz::check_query},
-                              {"mtlx", rpfuzz::check_mtlx},
-                              {"alta", rpfuzz::check_alta},
-                              {"study", rpfuzz::check_study}};
+    const Target targets[] = {{"closure", rpfuzz::check_closure},   {"query", rpfuzz::check_query},
+                              {"mtlx", rpfuzz::check_mtlx},         {"alta", rpfuzz::check_alta},
+                              {"ra_table", rpfuzz::check_ra_table}, {"study", rpfuzz::check_study}};
     for (const Target& t : targets) {
         int files = 0;
         for (const auto& entry : fs::directory_iterator(corpus / t.name)) {
