@@ -340,6 +340,9 @@ std::vector<ConfigResult> parse_results_csv(std::istream& in, const std::string&
                 field = prism_of_name(text);
                 if (field < 0)
                     throw InputError(where + ": unknown prism_reflection '" + text + "'");
+            } else if constexpr (std::is_integral_v<T>) {
+                // Counts: whole numbers a double holds exactly (no out-of-range conversion).
+                field = T(parse_count(text, where + ": " + name, 0, 9.0e15));
             } else {
                 field = T(parse_number(text, where + ": " + name));
             }
