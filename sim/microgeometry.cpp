@@ -145,15 +145,24 @@ dvec3 refract_dir(const dvec3& wIn, const dvec3& m, double c, double e) {
 
 namespace {
 
-// A pair of independent Gaussians of density exp(-s^2) / sqrt(pi) (variance 1/2): Marsaglia's
-// polar method (a uniform point of the unit disk by rejection, no trigonometry).
-void gaussian_pair(Rng& rng, double& g1, double& g2) {
-    double x, y, s;
+// A uniform point (x, y) of the open unit disk, by rejection from the square; its x^2 + y^2.
+double disk_point(Rng& rng, double& x, double& y) {
+    double r2;
     do {
         x = 2.0 * rng.uniform() - 1.0;
         y = 2.0 * rng.uniform() - 1.0;
-        s = x * x + y * y;
-    } while (!(s < 1.0 && s > 0.0));
+        r2 = x * x + y * y;
+    } while (!(r2 < 1.0));
+    return r2;
+}
+
+// A pair of independent Gaussians of density exp(-s^2) / sqrt(pi) (variance 1/2): Marsaglia's
+// polar method (a uniform point of the unit disk, no trigonometry).
+void gaussian_pair(Rng& rng, double& g1, double& g2) {
+    double x, y, s;
+    do {
+        s = disk_point(rng, x, y);
+    } while (!(s > 0.0));
     const double f = std::sqrt(-std::log(s) / s);
     g1 = x * f;
     g2 = y * f;
@@ -165,10 +174,8 @@ void gaussian_pair(Rng& rng, double& g1, double& g2) {
 void uniform_rotation(Rng& rng, double& c, double& s) {
     double x, y, r2;
     do {
-        x = 2.0 * rng.uniform() - 1.0;
-        y = 2.0 * rng.uniform() - 1.0;
-        r2 = x * x + y * y;
-    } while (!(r2 <= 1.0 && r2 > 1e-200));
+        r2 = disk_point(rng, x, y);
+    } while (!(r2 > 1e-200));
     const double inv = 1.0 / r2;
     c = (x - y) * (x + y) * inv;
     s = 2.0 * x * y * inv;
@@ -391,12 +398,8 @@ Path trace_path(const Sheet& sheet, const dvec3& wi, Rng& rng) {
             }
             // Lambertian re-emission into the sheet (Malley's method: a uniform point of the
             // unit disk, by rejection, lifted to the hemisphere).
-            double x, y, r2;
-            do {
-                x = 2.0 * rng.uniform() - 1.0;
-                y = 2.0 * rng.uniform() - 1.0;
-                r2 = x * x + y * y;
-            } while (!(r2 < 1.0));
+            double x, y;
+            const double r2 = disk_point(rng, x, y);
             up = dvec3(x, y, std::sqrt(1.0 - r2));
             if (sheet.upward_through_prisms) {
                 // The adjoint of the way down along -up.
