@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "linalg.h"
+#include "minimize.h"
 #include "parallel.h"
 #include "stats.h"
 
@@ -231,95 +232,6 @@ Inner solve_inner(const Model& model, int n, std::array<double, 3> c,
         if (!improved) break;
     }
     return best;
-}
-
-// ---------------------------------------------------------------------------------------------
-// Nelder-Mead in n dimensions (n = 2 here): standard coefficients (1, 2, 0.5, 0.5).
-
-struct NmResult {
-    std::vector<double> x;
-    double f = std::numeric_limits<double>::infinity();
-    int evaluations = 0;
-};
-
-NmResult nelder_mead(const std::function<double(const std::vector<double>&)>& f,
-                     std::vector<double> x0, double step, int maxEval) {
-    const size_t n = x0.size();
-    std::vector<std::vector<double>> s(n + 1, x0);
-    for (size_t i = 0; i < n; ++i)
-        s[i + 1][i] += step;
-    std::vector<double> fs(n + 1);
-    NmResult r;
-    for (size_t i = 0; i <= n; ++i) {
-        fs[i] = f(s[i]);
-        r.evaluations++;
-    }
-    while (r.evaluations < maxEval) {
-        std::vector<size_t> idx(n + 1);
-        for (size_t i = 0; i <= n; ++i)
-            idx[i] = i;
-        std::sort(idx.begin(), idx.end(), [&](size_t a, size_t b) { return fs[a] < fs[b]; });
-        const size_t best = idx[0], worst = idx[n], second = idx[n - 1];
-        double size = 0;
-        for (size_t i = 0; i <= n; ++i)
-            for (size_t k = 0; k < n; ++k)
-                size = std::max(size, std::abs(s[i][k] - s[best][k]));
-        if (std::abs(fs[worst] - fs[best]) <= 1e-10 * std::abs(fs[best]) + 1e-15 && size < 1e-4)
-            break;
-        if (size < 1e-7) break;
-        std::vector<double> centroid(n, 0.0);
-        for (size_t i = 0; i <= n; ++i)
-            if (i != worst)
-                for (size_t k = 0; k < n; ++k)
-                    centroid[k] += s[i][k] / double(n);
-        auto along = [&](double t) {
-            std::vector<double> p(n);
-            for (size_t k = 0; k < n; ++k)
-                p[k] = centroid[k] + t * (s[worst][k] - centroid[k]);
-            return p;
-        };
-        const std::vector<double> xr = along(-1.0);
-        const double fr = f(xr);
-        r.evaluations++;
-        if (fr < fs[best]) {
-            const std::vector<double> xe = along(-2.0);
-            const double fe = f(xe);
-            r.evaluations++;
-            if (fe < fr) {
-                s[worst] = xe;
-                fs[worst] = fe;
-            } else {
-                s[worst] = xr;
-                fs[worst] = fr;
-            }
-        } else if (fr < fs[second]) {
-            s[worst] = xr;
-            fs[worst] = fr;
-        } else {
-            const bool outside = fr < fs[worst];
-            const std::vector<double> xc = along(outside ? -0.5 : 0.5);
-            const double fc = f(xc);
-            r.evaluations++;
-            if (fc < (outside ? fr : fs[worst])) {
-                s[worst] = xc;
-                fs[worst] = fc;
-            } else {
-                for (size_t i = 0; i <= n; ++i)
-                    if (i != best) {
-                        for (size_t k = 0; k < n; ++k)
-                            s[i][k] = s[best][k] + 0.5 * (s[i][k] - s[best][k]);
-                        fs[i] = f(s[i]);
-                        r.evaluations++;
-                    }
-            }
-        }
-    }
-    size_t b = 0;
-    for (size_t i = 1; i <= n; ++i)
-        if (fs[i] < fs[b]) b = i;
-    r.x = s[b];
-    r.f = fs[b];
-    return r;
 }
 
 // Multi-start Nelder-Mead over (alpha, eta) in logistic coordinates (alpha alone when

@@ -2,6 +2,7 @@
 
 #include <atomic>
 #include <cmath>
+#include <memory>
 #include <mutex>
 
 #include "parallel.h"
@@ -133,8 +134,8 @@ Scene build_scene(int width, int height, double observationDeg, double signAngle
 }
 
 // The lobes' radiance through one pixel (spp x spp stratified rays, box filter) and its
-// coverage; counts the node's non-finite or negative values in `anomalies`.
-void shade_pixel(const Scene& scene, const Node& node, const NightSettings& st, int x, int y,
+// coverage; counts the BRDF's non-finite or negative values in `anomalies`.
+void shade_pixel(const Scene& scene, const LobeBrdf& brdf, const NightSettings& st, int x, int y,
                  dvec3 sum[3], int& hits, std::atomic<long>& anomalies) {
     const int spp = st.spp;
     for (int sy = 0; sy < spp; ++sy)
@@ -157,9 +158,9 @@ void shade_pixel(const Scene& scene, const Node& node, const NightSettings& st, 
                 const dvec3 wi = local(toL / std::sqrt(d2));
                 if (wi.z <= 0 || wo.z <= 0) continue;
                 if (scene.occluded(h.p, h.n, l.position)) continue;
-                const Node::Eval e = node.eval(wi, wo);
+                dvec3 lobes[3];
+                brdf(wi, wo, lobes);
                 const double k = wi.z * l.intensity / d2;
-                const dvec3 lobes[3] = {e.f.surface, e.f.retro, e.f.diffuse};
                 for (int j = 0; j < 3; ++j) {
                     for (int c = 0; c < 3; ++c)
                         if (!std::isfinite(lobes[j][c]) || lobes[j][c] < 0) ++anomalies;
@@ -171,11 +172,33 @@ void shade_pixel(const Scene& scene, const Node& node, const NightSettings& st, 
 
 } // namespace
 
-NightImage render_night(const Params& material, const NightSettings& st) {
+LobeBrdf node_lobes(const Params& material) {
     Params shading = material;
     shading.normal = {0.0, 0.0, 1.0};
     shading.tangent = {1.0, 0.0, 0.0};
-    const Node node(shading);
+    auto node = std::make_shared<const Node>(shading);
+    return [node](const dvec3& wi, const dvec3& wo, dvec3 lobes[3]) {
+        const Node::Lobes f = node->f(wi, wo);
+        lobes[0] = f.surface;
+        lobes[1] = f.retro;
+        lobes[2] = f.diffuse;
+    };
+}
+
+LobeBrdf mrm_lobes(const baselines::RetroreflectiveGGX& m) {
+    return [m](const dvec3& wi, const dvec3& wo, dvec3 lobes[3]) {
+        const auto parts = m.parts(wi, wo);
+        lobes[0] = dvec3(0.0);
+        lobes[1] = parts.specular;
+        lobes[2] = parts.diffuse;
+    };
+}
+
+NightImage render_night(const Params& material, const NightSettings& st) {
+    return render_night(node_lobes(material), st);
+}
+
+NightImage render_night(const LobeBrdf& brdf, const NightSettings& st) {
     const Scene scene =
         build_scene(st.width, st.height, st.observationDeg, st.signAngleDeg, st.fill);
     NightImage img;
@@ -196,7 +219,7 @@ NightImage render_night(const Params& material, const NightSettings& st) {
         for (int x = 0; x < st.width; ++x) {
             dvec3 sum[3] = {dvec3(0), dvec3(0), dvec3(0)};
             int hits = 0;
-            shade_pixel(scene, node, st, x, y, sum, hits, anomalies);
+            shade_pixel(scene, brdf, st, x, y, sum, hits, anomalies);
             const double inv = 1.0 / (st.spp * st.spp);
             const size_t i = size_t(y) * size_t(st.width) + size_t(x);
             for (int c = 0; c < 3; ++c) {

@@ -19,10 +19,12 @@
 // Pixels: spp^2 stratified sub-pixel rays, box filter.
 #pragma once
 
+#include <functional>
 #include <vector>
 
 #include <glm/glm.hpp>
 
+#include "baselines.h"
 #include "prismatic_retroreflector.h"
 
 namespace retroprism {
@@ -54,10 +56,21 @@ struct NightImage {
     // coverage.
     std::vector<float> surface, retro, diffuse, alpha;
     NightSceneInfo scene;
-    long anomalies = 0; // NaN, infinite or negative lobe values the node returned (must be 0)
+    long anomalies = 0; // NaN, infinite or negative lobe values the BRDF returned (must be 0)
 };
+
+// A BRDF by lobe in the local shading frame (normal +z, tangent +x): lobes[0..2] = surface,
+// retro, diffuse f(wi, wo) in 1/sr, without the cosine.
+using LobeBrdf =
+    std::function<void(const glm::dvec3& wi, const glm::dvec3& wo, glm::dvec3 lobes[3])>;
+// The node built from `material` with its normal and tangent replaced by the default frame.
+LobeBrdf node_lobes(const Params& material);
+// The MaterialX-style retroreflective GGX: its GGX lobe as "retro", its base as "diffuse".
+LobeBrdf mrm_lobes(const baselines::RetroreflectiveGGX& m);
 
 // Renders `material` (its normal and tangent replaced by the default frame) in the scene above.
 NightImage render_night(const Params& material, const NightSettings& settings);
+// The same for any BRDF.
+NightImage render_night(const LobeBrdf& brdf, const NightSettings& settings);
 
 } // namespace retroprism

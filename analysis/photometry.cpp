@@ -23,12 +23,21 @@ const std::vector<double>& ra_entrance_angles() {
 }
 
 void ra_directions(double entranceDeg, double observationDeg, double rotationDeg, glm::dvec3& wi,
-                   glm::dvec3& wo) {
+                   glm::dvec3& wo, double presentationDeg) {
     const double b = entranceDeg * kDeg, o = (entranceDeg - observationDeg) * kDeg;
+    const glm::dvec3 i(std::sin(b), 0.0, std::cos(b)), coplanar(std::sin(o), 0.0, std::cos(o));
+    // Rodrigues: the observation axis about the illumination axis by gamma.
+    const double g = presentationDeg * kDeg;
+    const glm::dvec3 v = presentationDeg == 0.0
+                             ? coplanar
+                             : coplanar * std::cos(g) + glm::cross(i, coplanar) * std::sin(g) +
+                                   i * (glm::dot(i, coplanar) * (1.0 - std::cos(g)));
     const double e = -rotationDeg * kDeg, c = std::cos(e), s = std::sin(e);
-    auto turn = [&](double x, double z) { return glm::dvec3(c * x, s * x, z); };
-    wi = turn(std::sin(b), std::cos(b));
-    wo = turn(std::sin(o), std::cos(o));
+    auto turn = [&](const glm::dvec3& w) {
+        return glm::dvec3(c * w.x - s * w.y, s * w.x + c * w.y, w.z);
+    };
+    wi = turn(i);
+    wo = turn(v);
 }
 
 Params ra_params(const Params& material) {
@@ -43,6 +52,23 @@ glm::dvec3 ra_value(const PrismaticRetroreflector<double>& node, double entrance
     glm::dvec3 wi, wo;
     ra_directions(entranceDeg, observationDeg, rotationDeg, wi, wo);
     return node.eval(wi, wo).f.total() * (wi.z * wo.z);
+}
+
+double ra_at_entry(const RaEntry& e,
+                   const std::function<glm::dvec3(double, double, double, double)>& ra) {
+    auto y = [&](double rotation) {
+        return luminance_709(ra(e.entrance_deg, e.observation_deg, rotation, e.presentation_deg));
+    };
+    return e.rotation_deg ? y(*e.rotation_deg) : 0.5 * (y(0.0) + y(90.0));
+}
+
+double ra_at_entry(const PrismaticRetroreflector<double>& node, const RaEntry& e) {
+    return ra_at_entry(
+        e, [&](double entrance, double observation, double rotation, double presentation) {
+            glm::dvec3 wi, wo;
+            ra_directions(entrance, observation, rotation, wi, wo, presentation);
+            return glm::dvec3(node.eval(wi, wo).f.total()) * (wi.z * wo.z);
+        });
 }
 
 RaTable ra_table(const Params& material, double rotationDeg, const std::vector<double>& observation,

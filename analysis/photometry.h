@@ -17,6 +17,8 @@
 //    beta > alpha the observer is between the source and the normal; for beta < 0 it is on the
 //    far side. (At the table's alpha <= 1.5 degrees this choice changes R_A by < 0.1% for
 //    the node: its retro lobe is symmetric about wi.)
+//  - Presentation angle gamma (0 in the coplanar geometry above): the observation axis turned
+//    about the illumination axis by gamma, counter-clockwise seen from the source.
 //  - Rotation angle epsilon: the sample (with its prisms and datum mark) turned about its
 //    normal by epsilon, counter-clockwise seen from the source's side (+z). Evaluated by turning
 //    wi and wo by -epsilon about z in the sample frame; it matters for era_mode oriented
@@ -24,11 +26,13 @@
 // The material's normal and tangent inputs are not used: R_A is a property of the flat sample.
 #pragma once
 
+#include <functional>
 #include <vector>
 
 #include <glm/glm.hpp>
 
 #include "prismatic_retroreflector.h"
+#include "ra_table.h"
 
 namespace retroprism {
 
@@ -39,10 +43,10 @@ double luminance_709(const glm::dvec3& rgb);
 const std::vector<double>& ra_observation_angles(); // 0.2, 0.33, 0.5, 1.0, 1.5
 const std::vector<double>& ra_entrance_angles();    // -4, 15, 30, 40, 45
 
-// wi and wo in the node's local frame for entrance beta, observation alpha and rotation
-// epsilon (degrees), by the conventions above.
+// wi and wo in the node's local frame for entrance beta, observation alpha, rotation epsilon
+// and presentation gamma (degrees), by the conventions above.
 void ra_directions(double entranceDeg, double observationDeg, double rotationDeg, glm::dvec3& wi,
-                   glm::dvec3& wo);
+                   glm::dvec3& wo, double presentationDeg = 0.0);
 
 // The node's parameters for R_A: the material with the default frame (normal +z, tangent +x).
 Params ra_params(const Params& material);
@@ -50,6 +54,14 @@ Params ra_params(const Params& material);
 // R_A per RGB channel (cd lx^-1 m^-2) of a node built from ra_params(material).
 glm::dvec3 ra_value(const PrismaticRetroreflector<double>& node, double entranceDeg,
                     double observationDeg, double rotationDeg);
+
+// R_A (luminance Y) of a measured entry's geometry (io/ra_table.h): at its rotation, or the
+// mean over rotations 0 and 90 degrees when it has none, at its presentation angle; `ra` is
+// the R_A in RGB of a material at (entrance, observation, rotation, presentation) in degrees.
+double ra_at_entry(const RaEntry& e,
+                   const std::function<glm::dvec3(double, double, double, double)>& ra);
+// The same for the node built from ra_params(material).
+double ra_at_entry(const PrismaticRetroreflector<double>& node, const RaEntry& e);
 
 struct RaTable {
     std::vector<double> observation;          // rows, degrees

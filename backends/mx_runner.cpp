@@ -67,23 +67,16 @@ glm::dvec3 vec(const Vec3d& v) {
 
 } // namespace
 
-MaterialXRunner::MaterialXRunner(const std::string& sourceDir, const std::string& document,
-                                 const std::string& material, const std::string& node)
-    : node_(node) {
-    const fs::path tool = fs::path(sourceDir) / "materialx" / "tools" / "mx.cjs";
-    if (!fs::exists(fs::path(sourceDir) / "materialx" / "tools" / "node_modules" / "@needle-tools"))
+void generate_mx_shaders(const std::string& dataDir, const std::vector<std::string>& documents,
+                         const std::string& outDir) {
+    const fs::path tool = fs::path(dataDir) / "materialx" / "tools" / "mx.cjs";
+    if (!fs::exists(fs::path(dataDir) / "materialx" / "tools" / "node_modules" / "@needle-tools"))
         throw GlError("MaterialX: materialx/tools is not installed (run scripts/setup-debian.sh, "
                       "which runs npm ci there)");
-    const fs::path dir =
-        fs::temp_directory_path() / ("retroprism_mx_" + std::to_string(::getpid()));
-    fs::create_directories(dir);
-    fs::path doc = document;
-    if (document.empty()) {
-        doc = dir / "rp_query.mtlx";
-        std::ofstream(doc) << kDocument;
-    }
-    const std::string cmd =
-        "node '" + tool.string() + "' generate '" + doc.string() + "' '" + dir.string() + "' 2>&1";
+    std::string cmd = "node '" + tool.string() + "' generate";
+    for (const std::string& d : documents)
+        cmd += " '" + d + "'";
+    cmd += " '" + outDir + "' 2>&1";
     FILE* p = popen(cmd.c_str(), "r");
     if (!p) throw GlError("MaterialX: cannot run node");
     std::string out;
@@ -94,10 +87,40 @@ MaterialXRunner::MaterialXRunner(const std::string& sourceDir, const std::string
     int st = pclose(p);
     if (!WIFEXITED(st) || WEXITSTATUS(st) != 0)
         throw GlError("MaterialX: shader generation failed (" + cmd + "):\n" + out);
-    vertex_ = read_text(dir / (material + ".glsl.vert"));
-    fragment_ = read_text(dir / (material + ".glsl.frag"));
-    fs::remove_all(dir);
+}
 
+MxShaders read_mx_shaders(const std::string& dir, const std::string& material) {
+    return {read_text(fs::path(dir) / (material + ".glsl.vert")),
+            read_text(fs::path(dir) / (material + ".glsl.frag"))};
+}
+
+namespace {
+
+// The shaders of `material` of `document` (empty: the one-node query document).
+MxShaders generated_shaders(const std::string& dataDir, const std::string& document,
+                            const std::string& material) {
+    const fs::path dir =
+        fs::temp_directory_path() / ("retroprism_mx_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    fs::path doc = document;
+    if (document.empty()) {
+        doc = dir / "rp_query.mtlx";
+        std::ofstream(doc) << kDocument;
+    }
+    generate_mx_shaders(dataDir, {doc.string()}, dir.string());
+    MxShaders shaders = read_mx_shaders(dir.string(), material);
+    fs::remove_all(dir);
+    return shaders;
+}
+
+} // namespace
+
+MaterialXRunner::MaterialXRunner(const std::string& sourceDir, const std::string& document,
+                                 const std::string& material, const std::string& node)
+    : MaterialXRunner(generated_shaders(sourceDir, document, material), node) {}
+
+MaterialXRunner::MaterialXRunner(const MxShaders& shaders, const std::string& node)
+    : node_(node), vertex_(shaders.vertex), fragment_(shaders.fragment) {
     program_ = build_program({{GL_VERTEX_SHADER, vertex_}, {GL_FRAGMENT_SHADER, fragment_}});
     posProgram_ =
         build_program({{GL_VERTEX_SHADER, vertex_}, {GL_FRAGMENT_SHADER, kPositionFragment}});

@@ -29,6 +29,21 @@ struct MxImage {
     std::vector<float> positionWorld; // the fragment's world position per pixel (xyz)
 };
 
+// The GLSL vertex and fragment shaders MaterialX generates for one material.
+struct MxShaders {
+    std::string vertex, fragment;
+};
+
+// Generates with one run of MaterialX (`node` must be on the PATH and materialx/tools installed
+// with npm; the error says so otherwise) the GLSL, ESSL and Vulkan shaders of every material of
+// each document into `out_dir`, as MATERIAL.TARGET.vert and .frag (TARGET glsl, essl, vulkan).
+// `data_dir` holds materialx/tools (util/paths.h). GlError with MaterialX's messages when a
+// document fails.
+void generate_mx_shaders(const std::string& data_dir, const std::vector<std::string>& documents,
+                         const std::string& out_dir);
+// The GLSL pair of `material` in a folder that generate_mx_shaders wrote.
+MxShaders read_mx_shaders(const std::string& dir, const std::string& material);
+
 class MaterialXRunner {
   public:
     // Generates the shaders of a material with MaterialX (`node` must be on the PATH and
@@ -39,6 +54,9 @@ class MaterialXRunner {
     explicit MaterialXRunner(const std::string& source_dir, const std::string& document = "",
                              const std::string& material = "rp_query",
                              const std::string& node = "rp_query_bsdf");
+    // Compiles shaders MaterialX has generated (generate_mx_shaders) for a material whose node
+    // is `node`.
+    MaterialXRunner(const MxShaders& shaders, const std::string& node);
     ~MaterialXRunner();
     MaterialXRunner(const MaterialXRunner&) = delete;
     MaterialXRunner& operator=(const MaterialXRunner&) = delete;

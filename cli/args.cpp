@@ -22,15 +22,26 @@ bool parse_command_args(OIIO::ArgParse& ap, int argc, const char** argv, int& st
     return true;
 }
 
+bool parse_args_with_values(OIIO::ArgParse& ap, int argc, const char** argv, const char* option,
+                            std::vector<std::string>& values, bool& given, int& status) {
+    // The option's values are parsed as positional arguments.
+    values.clear();
+    given = false;
+    ap.arg("values").hidden().action([&](OIIO::cspan<const char*> a) { values.push_back(a[0]); });
+    std::vector<const char*> args;
+    for (int i = 0; i < argc; ++i) {
+        const bool isOption = std::strcmp(argv[i], option) == 0;
+        given = given || isOption;
+        if (!isOption) args.push_back(argv[i]);
+    }
+    return parse_command_args(ap, int(args.size()), args.data(), status);
+}
+
 bool parse_args_with_theta_i(OIIO::ArgParse& ap, int argc, const char** argv,
                              std::vector<double>& thetaI, int& status) {
-    // --theta-i takes every value that follows it: they are parsed as positional arguments.
     std::vector<std::string> values;
-    ap.arg("thetas").hidden().action([&](OIIO::cspan<const char*> a) { values.push_back(a[0]); });
-    std::vector<const char*> args;
-    for (int i = 0; i < argc; ++i)
-        if (std::strcmp(argv[i], "--theta-i") != 0) args.push_back(argv[i]);
-    if (!parse_command_args(ap, int(args.size()), args.data(), status)) return false;
+    bool given = false;
+    if (!parse_args_with_values(ap, argc, argv, "--theta-i", values, given, status)) return false;
     if (values.empty()) throw InputError(std::string(argv[0]) + ": --theta-i DEG... is required");
     thetaI.clear();
     for (const std::string& s : values) {

@@ -8,6 +8,13 @@
 // "rel_rms": x, "log_rms": y}} on standard output; `params` is a material JSON the other
 // commands read (inputs not listed keep their defaults). --plot OUT.png writes the in-plane
 // slices of each theta_l: measured samples against both fits, log scale.
+//
+// `retroprism fit --ra TABLE.csv`: fits both to a table of R_A (io/ra_table.h; the fit is
+// analysis/ra_fit.h's) and prints measured, fitted and error per entry; --json prints
+// {"table", "fitted", "params", "log_rms", "max_error", "entries": [...], "mrm": {"params",
+// "log_rms", "max_error"}}; --plot OUT.png R_A against observation angle per entrance angle;
+// --mtlx OUT.mtlx [--name NAME] a MaterialX document of the fitted node naming the table and
+// the fit's errors.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -26,12 +33,16 @@
 
 #include "alta_reader.h"
 #include "commands.h"
-#include "parse.h"
 #include "figure.h"
 #include "fit_plot.h"
 #include "fitting.h"
+#include "mtlx_writer.h"
+#include "parse.h"
 #include "plot.h"
 #include "query.h"
+#include "ra_fit.h"
+#include "ra_print.h"
+#include "ra_table.h"
 
 namespace fs = std::filesystem;
 // Ordered: the keys print in the documented order (params, rel_rms, log_rms, mrm).
@@ -158,6 +169,139 @@ void print_report(const FitData& d, const AltaData& alta, const FitOptions& o, c
                 mf.evaluations);
 }
 
+// ---------------------------------------------------------------------------------------------
+// fit --ra
+
+struct RaFitOutputs {
+    std::string plot, mtlx, name;
+    bool json = false;
+};
+
+std::string fitted_value(const Params& p, const std::string& name) {
+    const ParamInfo& info = *find_param(name);
+    switch (info.type) {
+    case ParamType::Float:
+        return plot::fmt("%.6g", *input_field<double>(p, name));
+    case ParamType::Color:
+        return plot::fmt("%.6g", (*input_field<Color3>(p, name))[0]) + " (grey)";
+    case ParamType::Enum:
+        return enum_values(info).at(size_t(*input_field<int>(p, name)));
+    default:
+        return *input_field<bool>(p, name) ? "true" : "false";
+    }
+}
+
+std::vector<std::string> document_comment(const RaMeasurements& t, const RaNodeFit& nf,
+                                          const RaMrmFit& mf) {
+    std::vector<std::string> c = {"The prismatic retroreflector node fitted by retroprism fit to "
+                                  "the R_A table " +
+                                  fs::path(t.file).filename().string() + ":"};
+    for (const std::string& line : t.comments)
+        c.push_back("  " + line);
+    std::string fitted;
+    for (const std::string& n : nf.fitted)
+        fitted += (fitted.empty() ? "" : ", ") + n;
+    c.push_back("Fitted inputs: " + fitted + "; the others are the base material's.");
+    c.push_back(plot::fmt("Fit: RMS of ln(fitted / measured) %.4f", nf.report.log_rms) +
+                plot::fmt(", largest error %.1f%%", 100 * nf.report.max_error) + " over " +
+                std::to_string(t.entries.size()) + " rows (R_A in cd lx^-1 m^-2):");
+    for (size_t i = 0; i < t.entries.size(); ++i) {
+        const RaEntry& e = t.entries[i];
+        c.push_back(
+            plot::fmt("  observation %g deg", e.observation_deg) +
+            plot::fmt(", entrance %g deg", e.entrance_deg) +
+            (e.rotation_deg ? plot::fmt(", rotation %g deg", *e.rotation_deg) : "") +
+            (e.presentation_deg != 0 ? plot::fmt(", presentation %g", e.presentation_deg) : "") +
+            plot::fmt(": measured %g", e.ra) + plot::fmt(", fitted %.4g", nf.report.model[i]) +
+            plot::fmt(" (%+.1f%%)", 100 * nf.report.error[i]));
+    }
+    c.push_back(plot::fmt("The MaterialX-style retroreflective GGX fitted to the same table: RMS "
+                          "of ln %.4f",
+                          mf.report.log_rms) +
+                plot::fmt(", largest error %.1f%%.", 100 * mf.report.max_error));
+    return c;
+}
+
+json ra_json(const RaMeasurements& t, const RaNodeFit& nf, const RaMrmFit& mf) {
+    json j = json::object();
+    j["table"] = t.file;
+    j["fitted"] = nf.fitted;
+    j["params"] = params_to_json(nf.params);
+    j["log_rms"] = nf.report.log_rms;
+    j["max_error"] = nf.report.max_error;
+    json entries = json::array();
+    for (size_t i = 0; i < t.entries.size(); ++i) {
+        const RaEntry& e = t.entries[i];
+        entries.push_back({{"line", e.line},
+                           {"observation_deg", e.observation_deg},
+                           {"entrance_deg", e.entrance_deg},
+                           {"rotation_deg", e.rotation_deg ? json(*e.rotation_deg) : json()},
+                           {"presentation_deg", e.presentation_deg},
+                           {"ra", e.ra},
+                           {"node", nf.report.model[i]},
+                           {"node_error", nf.report.error[i]},
+                           {"mrm", mf.report.model[i]},
+                           {"mrm_error", mf.report.error[i]}});
+    }
+    j["entries"] = entries;
+    j["mrm"] = {{"params", mrm_json(mf.model)},
+                {"log_rms", mf.report.log_rms},
+                {"max_error", mf.report.max_error}};
+    return j;
+}
+
+int fit_ra_table(const std::string& file, const Params& base, const RaFitOutputs& out) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const RaMeasurements t = read_ra_table(file);
+    const RaNodeFit nf = fit_ra_node(t, base);
+    const RaMrmFit mf = fit_ra_mrm(t);
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (!out.mtlx.empty())
+        write_mtlx(out.mtlx, {{out.name, nf.params}}, document_comment(t, nf, mf));
+    if (!out.plot.empty()) {
+        plot::Text text("retroprism fit");
+        plot::write_png(plot::ra_fit_figure(t, nf, mf, text), out.plot);
+    }
+    if (out.json) {
+        std::printf("%s\n", ra_json(t, nf, mf).dump().c_str());
+        return 0;
+    }
+    std::printf("table: %s (%zu rows), R_A [cd lx^-1 m^-2]\n", t.file.c_str(), t.entries.size());
+    for (const std::string& c : t.comments)
+        std::printf("  # %s\n", c.c_str());
+    std::printf("objective: RMS of ln(model / measured) over the rows, each row alike; rows "
+                "without a rotation angle: the mean over rotations 0 and 90 deg\n\n");
+    std::printf("%-20s %-26s %-26s\n", "", "node (prismatic retroreflector)",
+                "mrm (retroreflective GGX + Lambert)");
+    std::printf("%-20s %-26s %-26s\n", "fitted inputs", "from the parameter table",
+                "roughness, ior, specular");
+    for (const std::string& n : nf.fitted) {
+        std::string m = "-";
+        if (n == "roughness") m = plot::fmt("%.6g (GGX)", mf.model.roughness);
+        if (n == "ior") m = plot::fmt("%.6g", mf.model.ior);
+        std::printf("%-20s %-26s %-26s\n", n.c_str(), fitted_value(nf.params, n).c_str(),
+                    m.c_str());
+    }
+    std::printf("%-20s %-26s %-26s\n\n", "specular", "-",
+                plot::fmt("%.6g", mf.model.specular).c_str());
+    print_ra_comparison(t, {{"node", nf.report.model}, {"mrm", mf.report.model}}, stdout);
+    std::printf("\nruntime %.1f s (%d + %d evaluations of the table)\n", seconds, nf.evaluations,
+                mf.evaluations);
+    if (!out.mtlx.empty())
+        std::printf("wrote %s (material \"%s\")\n", out.mtlx.c_str(), out.name.c_str());
+    if (!out.plot.empty()) std::printf("wrote %s\n", out.plot.c_str());
+    return 0;
+}
+
+void require_folder(const std::string& option, const std::string& path) {
+    if (path.empty()) return;
+    const fs::path dir = fs::path(path).parent_path();
+    std::error_code ec;
+    if (!dir.empty() && !fs::is_directory(dir, ec))
+        throw InputError(option + " " + path + ": no folder " + dir.string());
+}
+
 } // namespace
 
 int cmd_fit(int argc, const char** argv) {
@@ -166,28 +310,66 @@ int cmd_fit(int argc, const char** argv) {
              "diffuse_color, prism_reflection) and the MaterialX-style retroreflective GGX "
              "baseline to measured BRDF x cos(theta_v) in the ALTA text format (#PARAM_IN "
              "ISOTROPIC_TL_TV_PROJ_DPHI), weighting peaks and floor alike in log space, with the "
-             "instrument's angular resolution as a Gaussian blur")
+             "instrument's angular resolution as a Gaussian blur. With --ra, fits the inputs the "
+             "parameter table declares fittable, and the baseline, to a table of R_A (CSV: "
+             "observation_deg, entrance_deg, ra, optional rotation_deg and presentation_deg) in "
+             "log space")
         .usage("retroprism fit DATA.dat [--json] [--plot OUT.png] [--resolution FWHM_DEG] [--ior "
-               "ETA]");
+               "ETA] [--param-out NAME]\n       retroprism fit --ra TABLE.csv [--json] [--plot "
+               "OUT.png] [--mtlx OUT.mtlx [--name NAME]] [--material BASE.json]");
     std::string file;
     ap.arg("filename").hidden().action([&](OIIO::cspan<const char*> a) { file = a[0]; });
     ap.arg("--json")
-        .help("print only {\"params\", \"rel_rms\", \"log_rms\", \"mrm\": {...}} as JSON")
+        .help("print only {\"params\", \"rel_rms\", \"log_rms\", \"mrm\": {...}} as JSON (--ra: "
+              "{\"table\", \"fitted\", \"params\", \"log_rms\", \"max_error\", \"entries\", "
+              "\"mrm\"})")
         .store_true();
-    ap.arg("--plot FILE").help("write in-plane slices, measured vs fitted, as a PNG");
+    ap.arg("--plot FILE")
+        .help("write in-plane slices (--ra: R_A against observation angle), measured vs fitted, "
+              "as a PNG");
     ap.arg("--resolution DEG")
         .help("FWHM of the instrument's Gaussian angular blur in degrees, 0 for none (default "
               "1.07, the sampling of the CEA measurements)")
         .defaultval("1.07");
     ap.arg("--ior ETA")
         .help("fix the ior of both models (e.g. 1.49 for acrylic) instead of fitting it");
-    ap.exit_on_error(false);
-    if (ap.parse_args(argc, argv) < 0) {
-        std::fprintf(stderr, "retroprism fit: %s\n", ap.geterror().c_str());
-        return 2;
+    ap.arg("--param-out NAME")
+        .help("the output of an ALTA file without #PARAM_OUT: INV_STERADIAN_COSINE_FACTOR "
+              "(assumed, with a warning, when not given) or INV_STERADIAN");
+    ap.arg("--ra TABLE").help("fit a table of R_A (CSV) instead of ALTA data");
+    ap.arg("--mtlx FILE").help("--ra: write the fitted node as a MaterialX document");
+    ap.arg("--name NAME").help("--ra: the material's name in --mtlx (default: its file stem)");
+    ap.arg("--material FILE")
+        .help("--ra: the inputs not fitted, as a JSON material (default: the node's defaults)");
+    int status = 0;
+    if (!parse_command_args(ap, argc, argv, status)) return status;
+    const std::string plotPath = ap["plot"].get<std::string>();
+    require_folder("--plot", plotPath);
+
+    const std::string raFile = ap["ra"].get<std::string>();
+    if (!raFile.empty()) {
+        if (!file.empty())
+            throw InputError("fit: give either DATA.dat or --ra TABLE.csv, not both");
+        for (const char* option : {"ior", "param-out"})
+            if (!ap[option].get<std::string>().empty())
+                throw InputError(std::string("--") + option + " goes with ALTA data, not --ra");
+        RaFitOutputs out;
+        out.plot = plotPath;
+        out.json = ap["json"].get<int>() != 0;
+        out.mtlx = ap["mtlx"].get<std::string>();
+        out.name = ap["name"].get<std::string>();
+        require_folder("--mtlx", out.mtlx);
+        if (out.name.empty()) out.name = fs::path(out.mtlx).stem().string();
+        if (!out.mtlx.empty()) mtlx_document({{out.name, Params()}}, {}); // checks the name
+        const std::string base = ap["material"].get<std::string>();
+        return fit_ra_table(raFile,
+                            base.empty() ? Params() : params_from_json(read_json(base), base), out);
     }
-    if (ap.aborted() || ap["help"].get<int>()) return 0;
-    if (file.empty()) throw InputError("fit: give a data file in the ALTA text format");
+    for (const char* option : {"mtlx", "name", "material"})
+        if (!ap[option].get<std::string>().empty())
+            throw InputError(std::string("--") + option + " goes with --ra TABLE.csv");
+    if (file.empty())
+        throw InputError("fit: give a data file in the ALTA text format, or --ra TABLE.csv");
 
     const auto t0 = std::chrono::steady_clock::now();
     FitOptions o;
@@ -195,14 +377,9 @@ int cmd_fit(int argc, const char** argv) {
         parse_number_in(ap["resolution"].get<std::string>(), "--resolution", 0.0, 10.0);
     if (!ap["ior"].get<std::string>().empty())
         o.fixed_ior = parse_number_in(ap["ior"].get<std::string>(), "--ior", 1.01, 3.0);
-    const std::string plotPath = ap["plot"].get<std::string>();
-    if (!plotPath.empty()) {
-        const fs::path dir = fs::path(plotPath).parent_path();
-        std::error_code ec;
-        if (!dir.empty() && !fs::is_directory(dir, ec))
-            throw InputError("--plot " + plotPath + ": no folder " + dir.string());
-    }
-    const AltaData alta = read_alta(file);
+    const AltaData alta = read_alta(file, ap["param-out"].get<std::string>());
+    if (!alta.warning.empty())
+        std::fprintf(stderr, "retroprism fit: warning: %s\n", alta.warning.c_str());
     const FitData d = fit_data(alta);
     const NodeFit nf = fit_node(d, o);
     const MrmFit mf = fit_mrm(d, o);

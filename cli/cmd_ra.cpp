@@ -2,7 +2,9 @@
 // standards tabulate it (ASTM E808 / E810, CIE 54.2; ASTM D4956 sheeting specifications):
 // observation angles 0.2, 0.33, 0.5, 1.0, 1.5 degrees x entrance angles -4, 15, 30, 40, 45
 // degrees at one rotation angle epsilon. R_A = f cos(theta_i) cos(theta_o) in cd lx^-1 m^-2
-// (MODEL.md section 5); the angle conventions are written in photometry.h.
+// (MODEL.md section 5); the angle conventions are written in photometry.h. With --table
+// TABLE.csv (io/ra_table.h), the material's R_A at the table's entries against the measured
+// values instead.
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -14,7 +16,9 @@
 #include "parse.h"
 #include "photometry.h"
 #include "query.h"
+#include "ra_fit.h"
 #include "ra_print.h"
+#include "ra_table.h"
 
 namespace retroprism {
 
@@ -28,7 +32,7 @@ int cmd_ra(int argc, const char** argv) {
              "to the observation axis in the same plane, the observer keeping its side of the "
              "source; rotation epsilon turns the sample about its normal)")
         .usage("retroprism ra [--material FILE.json | --document DOC.mtlx [--name NAME]] "
-               "[--rotation DEG] [--csv] [--rgb]");
+               "[--rotation DEG] [--csv] [--rgb] [--table TABLE.csv]");
     ap.arg("--material FILE").help("node inputs as a JSON object (default: all defaults)");
     ap.arg("--document FILE").help("a MaterialX document (.mtlx) instead of --material");
     ap.arg("--name NAME").help("the material of the document (default: its first)");
@@ -37,6 +41,9 @@ int cmd_ra(int argc, const char** argv) {
         .defaultval("0");
     ap.arg("--csv").help("CSV on standard output (Y and R, G, B per row)").store_true();
     ap.arg("--rgb").help("text: also the R, G and B tables").store_true();
+    ap.arg("--table FILE")
+        .help("R_A at the entries of a measured table (CSV, as fit --ra reads it): measured, "
+              "the material's and the error per entry");
     int status = 0;
     if (!parse_command_args(ap, argc, argv, status)) return status;
 
@@ -57,6 +64,14 @@ int cmd_ra(int argc, const char** argv) {
         std::string materialName;
         p = document_params(doc, name, &materialName);
         label = "material \"" + materialName + "\" of " + doc;
+    }
+    const std::string tableFile = ap["table"].get<std::string>();
+    if (!tableFile.empty()) {
+        const RaMeasurements m = read_ra_table(tableFile);
+        std::printf("R_A [cd lx^-1 m^-2] of %s at the entries of %s\n", label.c_str(),
+                    tableFile.c_str());
+        print_ra_comparison(m, {{"material", ra_node_values(p, m.entries)}}, stdout);
+        return 0;
     }
     const RaTable t = ra_table(p, rotation);
     if (ap["csv"].get<int>())

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,20 +34,22 @@ namespace retroprism {
 
 namespace {
 
-// The folder of an output prefix exists and is writable, before any work is done.
-void check_prefix(const std::string& prefix) {
-    if (prefix.empty()) throw InputError("--out: empty prefix");
+// The folder of an output prefix (of option `option`) exists and is writable, before any work is
+// done.
+void check_prefix(const std::string& prefix, const std::string& option = "--out") {
+    if (prefix.empty()) throw InputError(option + ": empty prefix");
     fs::path dir = fs::path(prefix).parent_path();
     if (dir.empty()) dir = ".";
     std::error_code ec;
     if (!fs::is_directory(dir, ec))
-        throw InputError("--out " + prefix + ": folder " + dir.string() + " does not exist");
+        throw InputError(option + " " + prefix + ": folder " + dir.string() + " does not exist");
     const fs::path probe = dir / (".retroprism-write-test" + std::to_string(getpid()));
     {
         std::ofstream f(probe);
         if (!f || !(f << "x") || (f.close(), !f)) {
             fs::remove(probe, ec);
-            throw InputError("--out " + prefix + ": folder " + dir.string() + " is not writable");
+            throw InputError(option + " " + prefix + ": folder " + dir.string() +
+                             " is not writable");
         }
     }
     fs::remove(probe, ec);
@@ -93,7 +96,60 @@ void print_config(const sim::ConfigResult& r) {
     std::fflush(stdout);
 }
 
-// `simulate --study`: the options, the runs (or --load), results.csv, the document, the plots.
+// The study's options on the command line (--merge takes them from the shards, --load from the
+// archive but --quick).
+sim::StudyOptions study_options(OIIO::ArgParse& ap) {
+    sim::StudyOptions so;
+    so.rays = parse_count(ap["rays"].get<std::string>(), "--rays", 1000, 1e12);
+    so.recipRays = parse_count(ap["recip_rays"].get<std::string>(), "--recip-rays", 1000, 1e12);
+    so.diffuseRays =
+        parse_count(ap["diffuse_rays"].get<std::string>(), "--diffuse-rays", 1000, 1e12);
+    so.seed = parse_count(ap["seed"].get<std::string>(), "--seed", 0, 9.0e15);
+    so.threads = threads_option(ap["threads"].get<std::string>());
+    so.quick = ap["quick"].get<int>() != 0;
+    return so;
+}
+
+// `simulate --study --shard K/N --save FILE`: the shard's units, saved.
+int study_shard(const sim::StudyOptions& so, const std::string& text, const std::string& save) {
+    if (save.empty())
+        throw InputError("--shard " + text + ": --save FILE is required (the shard's results)");
+    const std::vector<sim::StudyUnit> units = sim::study_units(so);
+    const sim::ShardSpec spec = sim::parse_shard(text, "--shard", units.size());
+    check_prefix(save, "--save");
+    const sim::StudyShard shard = sim::run_study_shard(so, spec, {progress_bar, print_config});
+    sim::save_study_shard(save, shard);
+    double rays = 0;
+    for (const sim::UnitResult& u : shard.units)
+        rays += double(u.rays);
+    std::printf("wrote shard %s (%zu of the study's %zu units, %.4g rays) to %s in %.1f min; "
+                "merge every shard with simulate --study --merge\n",
+                text.c_str(), shard.units.size(), units.size(), rays, save.c_str(),
+                shard.elapsed / 60);
+    return 0;
+}
+
+// The document from its template, its plots and results.csv into `plotDir` next to it.
+void write_study(const sim::StudyResults& study, const fs::path& doc, const fs::path& plotDir) {
+    const std::string templatePath = data_path("docs/accuracy.md.in");
+    const std::string tmpl = read_text_file(templatePath);
+    sim::write_results_csv((plotDir / "results.csv").string(), study.results);
+    const std::string md = report::accuracy_report(study, tmpl, templatePath, doc.string(),
+                                                   plotDir.filename().string());
+    const fs::path tmpDoc = doc.string() + ".tmp" + std::to_string(getpid());
+    {
+        std::ofstream f(tmpDoc);
+        f << md;
+        if (!f) throw InputError(doc.string() + ": cannot write");
+    }
+    std::error_code ec;
+    fs::rename(tmpDoc, doc, ec);
+    if (ec) throw InputError(doc.string() + ": cannot write (" + ec.message() + ")");
+    report::write_accuracy_plots(study, plotDir.string());
+}
+
+// `simulate --study`: the options, the runs (or a shard, --merge, --load), results.csv, the
+// document, the plots.
 int study_command(int argc, const char** argv) {
     OIIO::ArgParse ap;
     ap.intro("retroprism simulate --study: the accuracy study: every analytic variant "
@@ -102,9 +158,12 @@ int study_command(int argc, const char** argv) {
              "{0.005, 0.02, 0.1, 0.3}, ior in {1.49, 1.586}, prism_reflection tir and metallized "
              "(diffuse_color 0.9, era_mode averaged). Writes FILE.md (default docs/accuracy.md) "
              "from the template docs/accuracy.md.in, its plots and results.csv into the folder "
-             "`accuracy` next to it.")
+             "`accuracy` next to it. In shards (docs/simulate.md): each of N processes runs "
+             "--shard K/N --save PART_K, then --merge PART_1 ... PART_N writes what one process "
+             "would have, the same results bit for bit.")
         .usage("retroprism simulate --study [--rays N] [--diffuse-rays N] [--recip-rays N] "
-               "[--seed S] [--threads T] [--doc FILE.md] [--quick] [--save FILE] [--load FILE]");
+               "[--seed S] [--threads T] [--doc FILE.md] [--quick] [--save FILE] [--load FILE] "
+               "[--shard K/N --save PART] [--merge PART...]");
     ap.arg("--study").help("run the accuracy study").store_true();
     ap.arg("--rays N").help("rays per configuration (default 4000000)").defaultval("4000000");
     ap.arg("--diffuse-rays N")
@@ -131,22 +190,40 @@ int study_command(int argc, const char** argv) {
     ap.arg("--load FILE")
         .help("redo the document and plots from FILE (written by --save with the "
               "same --quick) instead of simulating");
+    ap.arg("--shard K/N")
+        .help("run only shard K of N (1 <= K <= N <= the study's work units) and write its "
+              "partial results to --save PART; no document");
+    ap.arg("--merge PART...")
+        .help("write the document, plots, results.csv (and --save) from the partial results of "
+              "all N shards of a study (its options are theirs) instead of simulating");
     int status = 0;
-    if (!parse_command_args(ap, argc, argv, status)) return status;
-    sim::StudyOptions so;
-    so.rays = parse_count(ap["rays"].get<std::string>(), "--rays", 1000, 1e12);
-    so.recipRays = parse_count(ap["recip_rays"].get<std::string>(), "--recip-rays", 1000, 1e12);
-    so.diffuseRays =
-        parse_count(ap["diffuse_rays"].get<std::string>(), "--diffuse-rays", 1000, 1e12);
-    so.seed = parse_count(ap["seed"].get<std::string>(), "--seed", 0, 9.0e15);
-    so.threads = threads_option(ap["threads"].get<std::string>());
-    so.quick = ap["quick"].get<int>() != 0;
+    std::vector<std::string> parts;
+    bool merge = false;
+    if (!parse_args_with_values(ap, argc, argv, "--merge", parts, merge, status)) return status;
+    if (!merge && !parts.empty())
+        throw InputError("simulate --study: unexpected argument " + parts[0] +
+                         " (--merge PART... takes the shards' files)");
+    if (merge && parts.empty()) throw InputError("--merge: expected the shards' files");
+    const sim::StudyOptions so = study_options(ap);
+    const std::string load = ap["load"].get<std::string>(), save = ap["save"].get<std::string>();
+    const std::string shard = ap["shard"].get<std::string>();
+    if (int(merge) + int(!load.empty()) + int(!shard.empty()) > 1)
+        throw InputError("simulate --study: --shard, --merge and --load exclude each other");
+    if (!shard.empty()) return study_shard(so, shard, save);
+
     const fs::path doc = ap["doc"].get<std::string>();
     if (doc.extension() != ".md")
         throw InputError("--doc " + doc.string() + ": expected a .md file name");
-    const std::string templatePath = data_path("docs/accuracy.md.in");
-    const std::string tmpl = read_text_file(templatePath);
-
+    // The results read (--merge, --load) before any folder is made, or simulated after.
+    std::optional<sim::StudyResults> read;
+    if (merge) {
+        std::vector<sim::StudyShard> shards;
+        for (const std::string& part : parts)
+            shards.push_back(sim::load_study_shard(part));
+        read = sim::merge_study_shards(shards);
+    } else if (!load.empty()) {
+        read = sim::load_study(load, so.quick);
+    }
     const fs::path plotDir =
         (doc.parent_path().empty() ? fs::path(".") : doc.parent_path()) / "accuracy";
     std::error_code ec;
@@ -154,23 +231,10 @@ int study_command(int argc, const char** argv) {
     if (ec || !fs::is_directory(plotDir))
         throw InputError("--doc " + doc.string() + ": cannot create " + plotDir.string());
     check_prefix((plotDir / "probe").string());
-
-    const std::string load = ap["load"].get<std::string>(), save = ap["save"].get<std::string>();
-    const sim::StudyResults study = load.empty() ? sim::run_study(so, {progress_bar, print_config})
-                                                 : sim::load_study(load, so.quick);
+    const sim::StudyResults study =
+        read ? std::move(*read) : sim::run_study(so, {progress_bar, print_config});
     if (!save.empty()) sim::save_study(save, study);
-    sim::write_results_csv((plotDir / "results.csv").string(), study.results);
-    const std::string md = report::accuracy_report(study, tmpl, templatePath, doc.string(),
-                                                   plotDir.filename().string());
-    const fs::path tmpDoc = doc.string() + ".tmp" + std::to_string(getpid());
-    {
-        std::ofstream f(tmpDoc);
-        f << md;
-        if (!f) throw InputError(doc.string() + ": cannot write");
-    }
-    fs::rename(tmpDoc, doc, ec);
-    if (ec) throw InputError(doc.string() + ": cannot write (" + ec.message() + ")");
-    report::write_accuracy_plots(study, plotDir.string());
+    write_study(study, doc, plotDir);
     std::printf("wrote %s, %zu plots and %s in %.1f min (%.3g rays/s on %d threads)\n",
                 doc.string().c_str(), report::accuracy_plot_names(study.grid).size(),
                 (plotDir / "results.csv").string().c_str(), study.elapsed / 60,

@@ -18,7 +18,10 @@
 //  - mtlx: the bytes are a MaterialX document; parse_mtlx either returns documents whose
 //    parameters are within the table's ranges or throws an InputError naming the file;
 //  - alta: the bytes are an ALTA file; parse_alta either returns samples within the
-//    documented ranges or throws an InputError naming the file.
+//    documented ranges or throws an InputError naming the file;
+//  - ra_table: the bytes are an R_A table (CSV); parse_ra_table either returns entries within
+//    the documented ranges, at least one, no two with the same angles, or throws an InputError
+//    naming the file and a line.
 #pragma once
 
 #include <array>
@@ -40,6 +43,7 @@
 #include "mtlx_reader.h"
 #include "prismatic_retroreflector.h"
 #include "query.h"
+#include "ra_table.h"
 #include "study_results.h"
 
 namespace rpfuzz {
@@ -467,9 +471,43 @@ inline void check_alta(const std::uint8_t* data, size_t size) {
     }
 }
 
-// The accuracy study's files (sim/study_results.h): the archive of `simulate --study --load`
-// and results.csv. Either reader returns the whole grid or throws an InputError naming the
-// file; nothing else (no crash, no other exception, no partial result).
+inline void check_ra_table(const std::uint8_t* data, size_t size) {
+    const std::string name = "fuzz_table.csv";
+    std::istringstream in(std::string(reinterpret_cast<const char*>(data), size));
+    retroprism::RaMeasurements t;
+    try {
+        t = retroprism::parse_ra_table(in, name);
+    } catch (const retroprism::InputError& e) {
+        if (std::string(e.what()).rfind(name + ":", 0) != 0)
+            throw Violation(std::string("parse_ra_table's error does not start with FILE:LINE: ") +
+                            e.what());
+        return;
+    } catch (const std::exception& e) {
+        throw Violation(std::string("parse_ra_table threw ") + typeid(e).name() + ": " + e.what());
+    }
+    if (t.entries.empty()) throw Violation("parse_ra_table returned no entries");
+    for (size_t i = 0; i < t.entries.size(); ++i) {
+        const retroprism::RaEntry& e = t.entries[i];
+        const std::string at = name + ":" + std::to_string(e.line);
+        if (!(e.observation_deg > 0 && e.observation_deg <= 5) ||
+            !(e.entrance_deg > -90 && e.entrance_deg < 90) || !(e.ra > 0 && std::isfinite(e.ra)) ||
+            !(e.presentation_deg >= -180 && e.presentation_deg <= 180) ||
+            (e.rotation_deg && !(*e.rotation_deg >= -360 && *e.rotation_deg <= 360)))
+            throw Violation(at + ": an entry outside the documented ranges passed the reader");
+        for (size_t k = 0; k < i; ++k) {
+            const retroprism::RaEntry& p = t.entries[k];
+            if (p.observation_deg == e.observation_deg && p.entrance_deg == e.entrance_deg &&
+                p.rotation_deg == e.rotation_deg && p.presentation_deg == e.presentation_deg)
+                throw Violation(at + ": a duplicate of line " + std::to_string(p.line) +
+                                " passed the reader");
+        }
+    }
+}
+
+// The accuracy study's files (sim/study_results.h): the archive of `simulate --study --load`,
+// a shard's partial results (`--merge`) and results.csv. Each reader returns the whole grid (a
+// shard: K/N in range, its units in order) or throws an InputError naming the file; nothing
+// else (no crash, no other exception, no partial result).
 inline void check_study(const std::uint8_t* data, size_t size) {
     const std::string text(reinterpret_cast<const char*>(data), size);
     for (const bool quick : {true, false}) {
@@ -485,6 +523,24 @@ inline void check_study(const std::uint8_t* data, size_t size) {
                 throw Violation(std::string("parse_study's error does not name the file: ") +
                                 e.what());
         }
+    }
+    const std::string shardName = "fuzz_shard.txt";
+    std::istringstream shardIn(text);
+    try {
+        const retroprism::sim::StudyShard s =
+            retroprism::sim::parse_study_shard(shardIn, shardName);
+        const size_t units = retroprism::sim::study_units(s.options).size();
+        if (!(s.shard.k >= 1 && s.shard.k <= s.shard.n && size_t(s.shard.n) <= units))
+            throw Violation("parse_study_shard returned shard " + std::to_string(s.shard.k) + "/" +
+                            std::to_string(s.shard.n) + " of a study of " + std::to_string(units) +
+                            " units");
+        for (size_t j = 0; j < s.units.size(); ++j)
+            if (s.units[j].index >= units || (j > 0 && s.units[j].index <= s.units[j - 1].index))
+                throw Violation("parse_study_shard returned units out of order or range");
+    } catch (const retroprism::InputError& e) {
+        if (!names(e.what(), shardName))
+            throw Violation(std::string("parse_study_shard's error does not name the file: ") +
+                            e.what());
     }
     const std::string csvName = "fuzz_results.csv";
     std::istringstream csv(text);

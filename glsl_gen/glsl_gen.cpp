@@ -107,27 +107,66 @@ std::string lit(double x) {
     return s;
 }
 
-// Lines of table data (numbers and commas only) with each number at float precision: the
-// tables carry 17 digits for the double C++ node, GLSL's float needs 9.
-std::string shorten_table_lines(const std::string& text) {
-    static const std::regex dataLine(R"(^[-+0-9.eE, ]+$)");
-    std::stringstream in(text);
-    std::string line, out;
-    while (std::getline(in, line)) {
-        if (!line.empty() && std::regex_match(line, dataLine)) {
-            std::stringstream items(line);
-            std::string item, rebuilt;
-            bool first = true;
-            while (std::getline(items, item, ',')) {
-                item = trim(item);
-                if (item.empty()) continue;
-                rebuilt += (first ? "" : ", ") + lit(std::stod(item));
-                first = false;
+// The tables as GLSL: RP_TABLE_BEGIN(name, n) <numbers> RP_TABLE_END becomes a constant array of
+// vec4 holding the n values four to a vector, at float precision (the tables carry 17 digits for
+// the double C++ node, GLSL's float needs 9), and a function name_at(i) that reads value i; every
+// access name[i] of the library becomes name_at(i). The values are those of the float array they
+// replace. GLSL compilers handle an array constant element by element, and Mesa's time to compile
+// one grows with the square of its element count: four values to an element compile the full
+// library several times faster (docs/ARCHITECTURE.md).
+std::string pack_tables(const std::string& text) {
+    static const std::regex begin(R"(RP_TABLE_BEGIN\((\w+), (\d+)\))");
+    std::string out;
+    std::vector<std::string> names;
+    auto pos = text.cbegin();
+    std::smatch m;
+    while (std::regex_search(pos, text.cend(), m, begin)) {
+        out.append(pos, m[0].first);
+        const std::string name = m[1];
+        const size_t n = std::stoul(m[2]);
+        const size_t bodyStart = size_t(m[0].second - text.cbegin());
+        const size_t bodyEnd = text.find("RP_TABLE_END", bodyStart);
+        if (bodyEnd == std::string::npos)
+            throw std::runtime_error("table " + name + ": no RP_TABLE_END");
+        std::stringstream items(text.substr(bodyStart, bodyEnd - bodyStart));
+        std::vector<std::string> values;
+        std::string item;
+        while (std::getline(items, item, ','))
+            if (!(item = trim(item)).empty()) values.push_back(lit(std::stod(item)));
+        if (values.size() != n)
+            throw std::runtime_error("table " + name + ": " + std::to_string(values.size()) +
+                                     " values where it declares " + std::to_string(n));
+        while (values.size() % 4 != 0)
+            values.push_back("0.0");
+        const std::string count = std::to_string(values.size() / 4);
+        out += "const vec4 " + name + "_v4[" + count + "] = vec4[" + count + "](";
+        for (size_t i = 0; i < values.size(); i += 4)
+            out += std::string(i % 8 == 0 ? "\n    " : " ") + "vec4(" + values[i] + ", " +
+                   values[i + 1] + ", " + values[i + 2] + ", " + values[i + 3] + ")" +
+                   (i + 4 < values.size() ? "," : "");
+        out += ");\nfloat " + name + "_at(int i) {\n    return " + name + "_v4[i >> 2][i & 3];\n}";
+        names.push_back(name);
+        pos = text.cbegin() + std::ptrdiff_t(bodyEnd + std::string("RP_TABLE_END").size());
+    }
+    out.append(pos, text.cend());
+    // Accesses name[index] -> name_at(index), the index's own brackets matched.
+    for (const std::string& name : names) {
+        const std::regex access("\\b" + name + "\\[");
+        std::string rewritten;
+        size_t from = 0;
+        for (std::sregex_iterator it(out.begin(), out.end(), access), endIt; it != endIt; ++it) {
+            const size_t open = size_t(it->position()) + name.size();
+            size_t close = open + 1;
+            for (int depth = 1; close < out.size(); ++close) {
+                depth += out[close] == '[' ? 1 : out[close] == ']' ? -1 : 0;
+                if (depth == 0) break;
             }
-            if (line.back() == ',') rebuilt += ",";
-            line = rebuilt;
+            if (close >= out.size()) throw std::runtime_error(name + "[: no closing bracket");
+            rewritten += out.substr(from, open - from) + "_at(" +
+                         out.substr(open + 1, close - open - 1) + ")";
+            from = close + 1;
         }
-        out += line + "\n";
+        out = rewritten + out.substr(from);
     }
     return out;
 }
@@ -156,10 +195,6 @@ std::string fix_modes(std::string s, const Variant& v) {
 // The common-subset spellings as GLSL.
 std::string to_glsl(std::string s, const Variant& v) {
     s = fix_modes(s, v);
-    s = shorten_table_lines(s);
-    s = std::regex_replace(s, std::regex(R"(RP_TABLE_BEGIN\((\w+), (\d+)\))"),
-                           "const float $1[$2] = float[$2](");
-    s = std::regex_replace(s, std::regex(R"(\bRP_TABLE_END\b)"), ");");
     s = std::regex_replace(s, std::regex(R"(\bRP_FN(_HOT|_COLD)? )"), "");
     s = std::regex_replace(s, std::regex(R"(\bRP_OUT\((\w+)\))"), "out $1");
     s = std::regex_replace(s, std::regex(R"(\bRP_INOUT\((\w+)\))"), "inout $1");
@@ -433,7 +468,7 @@ std::string generate_library(const Variant& v, const std::string& sourceDir) {
     if (v.diffuse)
         out += "float rp_fdr_external(float eta) {\n    return rp_fdr_external_table(eta);\n}\n\n";
     out += entry_point(v);
-    return out;
+    return pack_tables(out);
 }
 
 std::string wrap_fragment(const std::string& library, Target target) {

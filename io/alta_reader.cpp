@@ -17,13 +17,6 @@ constexpr double kHalfPi = 1.5707963267948966;
 // 1.57079632679489655799...): allowed up to this much, then treated as grazing.
 constexpr double kAngleSlack = 1e-9;
 
-std::string trim(const std::string& s) {
-    const size_t b = s.find_first_not_of(" \t\r\n");
-    if (b == std::string::npos) return "";
-    const size_t e = s.find_last_not_of(" \t\r\n");
-    return s.substr(b, e - b + 1);
-}
-
 std::vector<std::string> split_ws(const std::string& s) {
     std::istringstream ss(s);
     std::vector<std::string> out;
@@ -67,7 +60,28 @@ std::string AltaData::header_value(const std::string& keyword) const {
     return "";
 }
 
-AltaData parse_alta(const std::string& text, const std::string& name) {
+namespace {
+
+// The output quantity a #PARAM_OUT value names: true for BRDF x cos(theta_v); InputError
+// (through `fail`) for an unsupported one.
+template <class Fail>
+bool cosine_factor_of(const std::string& paramOut, const std::string& what, const Fail& fail) {
+    if (paramOut == "INV_STERADIAN_COSINE_FACTOR") return true;
+    if (paramOut != "INV_STERADIAN")
+        fail(what + " " + paramOut +
+             ": unsupported output; expected INV_STERADIAN_COSINE_FACTOR (BRDF x cos theta_v) or "
+             "INV_STERADIAN (BRDF)");
+    return false;
+}
+
+} // namespace
+
+AltaData parse_alta(const std::string& text, const std::string& name, const std::string& paramOut) {
+    if (!paramOut.empty() && paramOut != "INV_STERADIAN_COSINE_FACTOR" &&
+        paramOut != "INV_STERADIAN")
+        throw InputError("--param-out " + paramOut +
+                         ": expected INV_STERADIAN_COSINE_FACTOR (BRDF x cos theta_v) or "
+                         "INV_STERADIAN (BRDF)");
     AltaData d;
     d.file = name;
     bool haveDim = false;
@@ -101,21 +115,30 @@ AltaData parse_alta(const std::string& text, const std::string& name) {
                          "(theta_l, theta_v cos dphi, theta_v sin dphi)");
                 d.param_in = rest;
             } else if (key == "PARAM_OUT") {
-                if (rest == "INV_STERADIAN_COSINE_FACTOR")
-                    d.cosine_factor = true;
-                else if (rest == "INV_STERADIAN")
-                    d.cosine_factor = false;
-                else
-                    fail("#PARAM_OUT " + rest +
-                         ": unsupported output; expected INV_STERADIAN_COSINE_FACTOR (BRDF x "
-                         "cos theta_v) or INV_STERADIAN (BRDF)");
+                if (!d.samples.empty())
+                    fail("#PARAM_OUT after data lines; it must come before the first data line");
+                d.cosine_factor = cosine_factor_of(rest, "#PARAM_OUT", fail);
+                if (!paramOut.empty() && paramOut != rest)
+                    fail("#PARAM_OUT " + rest + " contradicts --param-out " + paramOut +
+                         " (which is for files without #PARAM_OUT)");
                 d.param_out = rest;
             }
             continue;
         }
-        if (!haveDim || d.param_in.empty() || d.param_out.empty())
-            fail("data line before the header is complete: the file must declare #DIM 3 1, "
-                 "#PARAM_IN ISOTROPIC_TL_TV_PROJ_DPHI and #PARAM_OUT before its data");
+        if (!haveDim || d.param_in.empty())
+            fail("data line before the header is complete: the file must declare #DIM 3 1 and "
+                 "#PARAM_IN ISOTROPIC_TL_TV_PROJ_DPHI before its data");
+        if (d.param_out.empty()) {
+            // ALTA reads a missing #PARAM_OUT as an unknown output; take the stated one.
+            d.param_out = paramOut.empty() ? "INV_STERADIAN_COSINE_FACTOR" : paramOut;
+            d.cosine_factor = cosine_factor_of(d.param_out, "--param-out", fail);
+            if (paramOut.empty())
+                d.warning = name + ": no #PARAM_OUT before the data (line " +
+                            std::to_string(lineNo) +
+                            "); the values are taken as BRDF x cos(theta_v) "
+                            "(INV_STERADIAN_COSINE_FACTOR, as in the CEA campaign's files); give "
+                            "--param-out INV_STERADIAN if they are the BRDF itself";
+        }
         const std::vector<std::string> w = split_ws(line);
         if (w.size() != 4)
             fail("expected 4 numbers (theta_l x y value), found " + std::to_string(w.size()) +
@@ -147,8 +170,8 @@ AltaData parse_alta(const std::string& text, const std::string& name) {
     return d;
 }
 
-AltaData read_alta(const std::string& path) {
-    return parse_alta(read_text_file(path), path);
+AltaData read_alta(const std::string& path, const std::string& paramOut) {
+    return parse_alta(read_text_file(path), path, paramOut);
 }
 
 } // namespace retroprism

@@ -3,7 +3,8 @@
 //
 // Header lines start with '#': `#DIM 3 1` (three input coordinates, one output value),
 // `#PARAM_IN ISOTROPIC_TL_TV_PROJ_DPHI`, `#PARAM_OUT INV_STERADIAN_COSINE_FACTOR` (the value is
-// BRDF x cos(theta_v), 1/sr) or `INV_STERADIAN` (the BRDF itself); other '#' lines (#SAMPLE,
+// BRDF x cos(theta_v), 1/sr) or `INV_STERADIAN` (the BRDF itself; see read_alta for a file
+// without #PARAM_OUT); other '#' lines (#SAMPLE,
 // #ORIGIN, #URL, #VS, ...) are kept as header text. Each data line is `theta_l x y value`:
 // theta_l the light's polar angle (radians) at azimuth 0; (x, y) = (theta_v cos dphi,
 // theta_v sin dphi) the view direction's polar angle and its azimuth relative to the light.
@@ -38,17 +39,24 @@ struct AltaData {
     std::string param_in;                                    // ISOTROPIC_TL_TV_PROJ_DPHI
     std::string param_out;                                   // INV_STERADIAN[_COSINE_FACTOR]
     bool cosine_factor = true;                               // the values include cos(theta_v)
+    std::string warning; // set when the file has no #PARAM_OUT and the output was assumed
     std::vector<AltaSample> samples;
     // The value of a header keyword (e.g. "SAMPLE"), unquoted, or "" when absent.
     std::string header_value(const std::string& keyword) const;
 };
 
 // Reads and checks a file; every error is an InputError naming FILE:LINE and what is expected:
-// a missing or unsupported #DIM / #PARAM_IN / #PARAM_OUT, data before them, a line without
-// exactly 4 numbers, a non-finite or negative value, theta_l outside [0, 90) degrees or
-// theta_v beyond 90 degrees, a file without data.
-AltaData read_alta(const std::string& path);
+// a missing or unsupported #DIM / #PARAM_IN, an unsupported #PARAM_OUT or one after the data,
+// data before #DIM and #PARAM_IN, a line without exactly 4 numbers, a non-finite or negative
+// value, theta_l outside [0, 90) degrees or theta_v beyond 90 degrees, a file without data.
+// A file without #PARAM_OUT (ALTA reads it as an unknown output) is read as `paramOut` says
+// (INV_STERADIAN_COSINE_FACTOR or INV_STERADIAN); when that is empty, as
+// INV_STERADIAN_COSINE_FACTOR (BRDF x cos(theta_v), as in the CEA campaign's files) with
+// AltaData::warning naming the assumption. A file whose #PARAM_OUT differs from a non-empty
+// `paramOut` is an error.
+AltaData read_alta(const std::string& path, const std::string& paramOut = "");
 // The same from text in memory; `name` stands for the file in messages.
-AltaData parse_alta(const std::string& text, const std::string& name);
+AltaData parse_alta(const std::string& text, const std::string& name,
+                    const std::string& paramOut = "");
 
 } // namespace retroprism

@@ -19,13 +19,6 @@ namespace {
 // Attributes that connect an input instead of giving it a value.
 const char* const kConnectionAttributes[] = {"nodename", "nodegraph", "output", "interfacename"};
 
-std::string trim(const std::string& s) {
-    const size_t b = s.find_first_not_of(" \t\r\n");
-    if (b == std::string::npos) return "";
-    const size_t e = s.find_last_not_of(" \t\r\n");
-    return s.substr(b, e - b + 1);
-}
-
 std::string num(double v) {
     std::ostringstream ss;
     ss << v;

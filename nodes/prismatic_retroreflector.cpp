@@ -38,6 +38,25 @@ const ParamInfo* find_param(const std::string& name) {
     return nullptr;
 }
 
+const std::vector<FitInfo>& fit_table() {
+    static const std::vector<FitInfo> table = {
+#define RP_FLOAT(name, def, lo, hi, doc)
+#define RP_COLOR(name, r, g, b, doc)
+#define RP_ENUM(name, def, values, doc)
+#define RP_VECTOR(name, x, y, z, geomprop, doc)
+#define RP_BOOL(name, def, doc)
+#define RP_FIT(name, lo, hi, scale) {find_param(#name), lo, hi, FitScale::scale},
+#include "prismatic_retroreflector_params.def"
+#undef RP_FLOAT
+#undef RP_COLOR
+#undef RP_ENUM
+#undef RP_VECTOR
+#undef RP_BOOL
+#undef RP_FIT
+    };
+    return table;
+}
+
 namespace {
 
 template <class T, class U>

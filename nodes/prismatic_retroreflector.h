@@ -68,6 +68,18 @@ struct ParamInfo {
 };
 const std::vector<ParamInfo>& param_table();
 const ParamInfo* find_param(const std::string& name);
+
+// The inputs `retroprism fit --ra` fits (the RP_FIT lines of the parameter table), in table
+// order: floats and colours (one grey value) searched in [lo, hi] on a linear or logarithmic
+// scale; enums and booleans (Choice) fitted by trying every value.
+enum class FitScale { Linear, Log, Choice };
+struct FitInfo {
+    const ParamInfo* param;
+    double lo;
+    double hi;
+    FitScale scale;
+};
+const std::vector<FitInfo>& fit_table();
 // The input called `name` of `p`, by name, when it has the C++ type T (double for floats, int
 // for enums, bool, Color3 = Vec3d for colours and vectors); nullptr otherwise.
 template <class T>

@@ -10,6 +10,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <limits>
 #include <mutex>
 #include <thread>
@@ -21,6 +22,7 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kInvSqrtPi = 0.56418958354775628695;
+constexpr double kSqrtPi = 1.77245385090551602730;
 constexpr double kSqrt2Over3 = 0.81649658092772603273;
 constexpr double kInvSqrt3 = 0.57735026918962576451;
 constexpr double kSin120 = 0.86602540378443864676;
@@ -106,7 +108,12 @@ double height_inverse(double c) {
 }
 
 // Height of the next intersection of a ray of direction w from height h above the mean
-// surface, or +inf when it leaves the microsurface (Heitz et al. 2016, Algorithm 2).
+// surface, or +inf when it leaves the microsurface (Heitz et al. 2016, Algorithm 2). With
+// C1 = cdf(h) and G1 = C1^Lambda the probability of leaving upward, the ray leaves when
+// u >= 1 - G1, i.e. when q = (1 - u)^(1 / Lambda) <= C1, and else hits at cdf^-1(C1 / q): one
+// pow for both. Downward, Lambda <= -1 and it always hits at cdf^-1(C1 (1 - u)^(-1 / Lambda))
+// (for Lambda = -1, the common case of a direction steeper than the microsurface's slopes,
+// C1 (1 - u) exactly).
 double next_height(const dvec3& w, double h, double u, double alpha) {
     if (std::abs(w.z) < 1e-12) return h; // grazing: hits at once
     const double c1 = height_cdf(h);
@@ -114,9 +121,15 @@ double next_height(const dvec3& w, double h, double u, double alpha) {
     double c;
     if (w.z > 0) {
         if (!(lambda > 0)) return kInf;
-        const double g1 = std::pow(c1, lambda); // probability of leaving
-        if (u >= 1.0 - g1) return kInf;
-        c = c1 / std::pow(1.0 - u, 1.0 / lambda);
+        const double e = 1.0 / lambda, x = 1.0 - u;
+        // pow's value when it underflows (x <= 1/2 and e >= 1075: q <= 2^-1075 rounds to 0),
+        // without its slow underflow path: the ray leaves (c1 >= 0 = q).
+        if (x <= 0.5 && e >= 1075.0) return kInf;
+        const double q = std::pow(x, e);
+        if (q <= c1) return kInf;
+        c = c1 / q;
+    } else if (lambda == -1.0) {
+        c = c1 * (1.0 - u);
     } else {
         c = c1 * std::pow(1.0 - u, -1.0 / lambda); // lambda <= -1: always hits
     }
@@ -133,20 +146,93 @@ dvec3 refract_dir(const dvec3& wIn, const dvec3& m, double c, double e) {
 
 } // namespace
 
+namespace {
+
+// A uniform point (x, y) of the open unit disk, by rejection from the square; its x^2 + y^2.
+double disk_point(Rng& rng, double& x, double& y) {
+    double r2;
+    do {
+        x = 2.0 * rng.uniform() - 1.0;
+        y = 2.0 * rng.uniform() - 1.0;
+        r2 = x * x + y * y;
+    } while (!(r2 < 1.0));
+    return r2;
+}
+
+// A pair of independent Gaussians of density exp(-s^2) / sqrt(pi) (variance 1/2): Marsaglia's
+// polar method (a uniform point of the unit disk, no trigonometry).
+void gaussian_pair(Rng& rng, double& g1, double& g2) {
+    double x, y, s;
+    do {
+        s = disk_point(rng, x, y);
+    } while (!(s > 0.0));
+    const double f = std::sqrt(-std::log(s) / s);
+    g1 = x * f;
+    g2 = y * f;
+}
+
+// A uniform direction (c, s) = (cos psi, sin psi) of the plane, psi uniform in [0, 2 pi): a
+// uniform point (x, y) of the unit disk by rejection, its angle doubled ((x^2 - y^2, 2 x y) /
+// r^2: psi = 2 atan2(y, x) is uniform mod 2 pi as atan2 is uniform in (-pi, pi]).
+void uniform_rotation(Rng& rng, double& c, double& s) {
+    double x, y, r2;
+    do {
+        r2 = disk_point(rng, x, y);
+    } while (!(r2 > 1e-200));
+    const double inv = 1.0 / r2;
+    c = (x - y) * (x + y) * inv;
+    s = 2.0 * x * y * inv;
+}
+
+// Slope x of a visible normal of the standard Beckmann surface seen from above the mean plane
+// (cosT > 0, sinT > 0), density p(x) proportional to exp(-x^2) (cosT - x sinT)_+, sampled
+// exactly by rejection from the mixture q(x) = cosT exp(-x^2) (all x) + sinT |x| exp(-x^2)
+// (x < 0 only), of masses cosT sqrt(pi) and sinT / 2: for x < 0, q = p; for x > 0,
+// p / q = (1 - x tanT)_+. The Gaussian component draws from `gauss` (an iid stream of
+// N(0, 1/2)), the other is -sqrt(-log U) (P(|x| > t) = exp(-t^2)). Acceptance is
+// mass(p) / mass(q): 1 at normal and grazing views, 0.865 at worst (62.7 degrees); no exp or
+// erfc is evaluated.
+template <class Gauss>
+double visible_slope_x_above(double cosT, double sinT, Rng& rng, Gauss& gauss) {
+    const double wGauss = cosT * kSqrtPi;
+    const double pGauss = wGauss / (wGauss + 0.5 * sinT);
+    for (;;) {
+        if (rng.uniform() >= pGauss) return -std::sqrt(-std::log(rng.uniform_open()));
+        const double x = gauss();
+        if (x <= 0) return x;
+        if (rng.uniform() * cosT < cosT - x * sinT) return x;
+    }
+}
+
+} // namespace
+
 dvec3 sample_visible_normal(const dvec3& w, double alpha, Rng& rng) {
     const dvec3 ws = glm::normalize(dvec3(alpha * w.x, alpha * w.y, w.z));
     const double sinT = std::sqrt(ws.x * ws.x + ws.y * ws.y);
-    const double u1 = rng.uniform_open();
-    const double r = std::sqrt(-std::log(rng.uniform_open()));
-    const double phi = 2.0 * kPi * rng.uniform();
-    // Slope y (and x at normal view): Gaussians of density exp(-s^2) / sqrt(pi) (Box-Muller).
-    const double sy = r * std::cos(phi);
+    // Slope y (and x at normal view): Gaussians of density exp(-s^2) / sqrt(pi), a pair at a
+    // time, the spare kept for the next draw.
+    double spare = 0;
+    bool haveSpare = false;
+    auto gauss = [&]() {
+        if (haveSpare) {
+            haveSpare = false;
+            return spare;
+        }
+        double g;
+        gaussian_pair(rng, g, spare);
+        haveSpare = true;
+        return g;
+    };
+    const double sy = gauss();
     double sx;
     double cosPhi = 1.0, sinPhi = 0.0;
     if (sinT < 1e-12) {
-        sx = r * std::sin(phi);
+        sx = gauss();
     } else {
-        sx = visible_slope_x(ws.z, sinT, u1);
+        // Views from above by rejection; from below (the random walk's masked rays) by the
+        // inversion of the CDF.
+        sx = ws.z > 0 ? visible_slope_x_above(ws.z, sinT, rng, gauss)
+                      : visible_slope_x(ws.z, sinT, rng.uniform_open());
         cosPhi = ws.x / sinT;
         sinPhi = ws.y / sinT;
     }
@@ -198,16 +284,21 @@ Crossing cross_top_surface(const Sheet& sheet, const dvec3& dir, bool from_outsi
 
 PrismOutcome trace_prism(const Sheet& sheet, const dvec3& d, Rng& rng) {
     if (!(d.z < 0)) return kPrismMiss;
-    double psi = sheet.orientation_deg * (kPi / 180.0);
+    // The orientation psi of vertex 0: uniform (averaged; without trigonometry), or fixed,
+    // or one of the matched pair.
+    double c0, s0;
     if (sheet.era_mode == f64::RP_ERA_AVERAGED) {
-        psi = 2.0 * kPi * rng.uniform();
-    } else if (sheet.era_mode == f64::RP_ERA_MATCHED_PAIR) {
-        if (rng.uniform() < 0.5) psi += kPi;
+        uniform_rotation(rng, c0, s0);
+    } else {
+        double psi = sheet.orientation_deg * (kPi / 180.0);
+        if (sheet.era_mode == f64::RP_ERA_MATCHED_PAIR && rng.uniform() < 0.5) psi += kPi;
+        c0 = std::cos(psi);
+        s0 = std::sin(psi);
     }
     if (sheet.cant_deg != 0.0)
-        return trace_cube_corner(sheet, canted_cube_corner(sheet.cant_deg, psi), d, rng);
+        return trace_cube_corner(sheet, canted_cube_corner(sheet.cant_deg, std::atan2(s0, c0)), d,
+                                 rng);
     // Vertex directions v_k at psi + 120 k degrees; b_k = d.e_k, e_k = (sqrt(2/3) v_k, 1/sqrt3).
-    const double c0 = std::cos(psi), s0 = std::sin(psi);
     const double vx[3] = {c0, -0.5 * c0 - kSin120 * s0, -0.5 * c0 + kSin120 * s0};
     const double vy[3] = {s0, kSin120 * c0 - 0.5 * s0, -kSin120 * c0 - 0.5 * s0};
     double b[3], a[3];
@@ -223,38 +314,40 @@ PrismOutcome trace_prism(const Sheet& sheet, const dvec3& d, Rng& rng) {
     a[0] = u;
     a[1] = v;
     a[2] = std::max(0.0, 1.0 - u - v);
+    // The faces are the coordinate planes of the orthonormal frame e_k, and a reflection on face
+    // k only flips b_k: unfolded, the path is the straight line a + t b, its point in the solid
+    // (|a_k + t b_k|), and the ray leaves through the aperture when S(t) = sum |a_k + t b_k|,
+    // convex, 1 at t = 0 and decreasing there (sum b_k = sqrt3 d.z < 0), is back at 1. So face
+    // k is hit (once, at cosine -b_k) iff b_k < 0 and S(t_k) < 1 at t_k = a_k / -b_k: the
+    // faces hit and their cosines follow without tracing them in order.
     int reflections = 0;
-    for (int step = 0; step < 4; ++step) {
-        // The convex solid: the first boundary plane met is where the ray leaves or hits.
-        double tBest = kInf;
-        int best = -1;
-        for (int k = 0; k < 3; ++k) {
-            if (b[k] < 0) {
-                const double t = std::max(a[k], 0.0) / -b[k];
-                if (t < tBest) {
-                    tBest = t;
-                    best = k;
-                }
-            }
-        }
-        const double sb = b[0] + b[1] + b[2];
-        if (sb > 0) {
-            const double tAp = std::max(0.0, 1.0 - (a[0] + a[1] + a[2])) / sb;
-            if (tAp <= tBest) break;
-        }
-        if (best < 0) break;
-        for (int k = 0; k < 3; ++k)
-            a[k] = std::max(0.0, a[k] + tBest * b[k]);
-        a[best] = 0.0;
-        const double cosK = -b[best];
+    double cosHit[3];
+    for (int k = 0; k < 3; ++k) {
+        if (!(b[k] < 0)) continue;
+        const double t = a[k] / -b[k];
+        const double sAt =
+            std::abs(a[0] + t * b[0]) + std::abs(a[1] + t * b[1]) + std::abs(a[2] + t * b[2]);
+        if (sAt < 1.0) cosHit[reflections++] = -b[k];
+    }
+    // Each hit reflects independently with its probability (tir: the internal Fresnel
+    // reflectance at its cosine; metallized: metal_reflectance), so the ray survives its hits
+    // with the product of those probabilities: one Russian roulette on the product.
+    if (reflections > 0) {
         if (sheet.prism_reflection == f64::RP_PRISM_TIR) {
-            const double r = f64::rp_fresnel_internal(cosK, sheet.eta);
-            if (r < 1.0 && rng.uniform() >= r) return kPrismTransmitted;
+            double keep = 1.0;
+            for (int k = 0; k < reflections; ++k) {
+                const double c = cosHit[k];
+                // Total internal reflection (reflectance 1) without the Fresnel terms.
+                if ((1.0 - c * c) * sheet.eta * sheet.eta < 1.0)
+                    keep *= f64::rp_fresnel_internal(c, sheet.eta);
+            }
+            if (keep < 1.0 && rng.uniform() >= keep) return kPrismTransmitted;
         } else if (sheet.prism_reflection == f64::RP_PRISM_METALLIZED) {
-            if (rng.uniform() >= sheet.metal_reflectance) return kPrismAbsorbed;
+            double keep = sheet.metal_reflectance;
+            for (int k = 1; k < reflections; ++k)
+                keep *= sheet.metal_reflectance;
+            if (rng.uniform() >= keep) return kPrismAbsorbed;
         }
-        b[best] = -b[best];
-        ++reflections;
     }
     return reflections == 3 ? kPrismRetro : kPrismMiss;
 }
@@ -309,10 +402,11 @@ Path trace_path(const Sheet& sheet, const dvec3& wi, Rng& rng) {
                 p.fate = kFateAbsorbedSubstrate;
                 return p;
             }
-            // Lambertian re-emission into the sheet (Malley's method).
-            const double u1 = rng.uniform(), phi = 2.0 * kPi * rng.uniform();
-            const double r = std::sqrt(u1);
-            up = dvec3(r * std::cos(phi), r * std::sin(phi), std::sqrt(std::max(0.0, 1.0 - u1)));
+            // Lambertian re-emission into the sheet (Malley's method: a uniform point of the
+            // unit disk, by rejection, lifted to the hemisphere).
+            double x, y;
+            const double r2 = disk_point(rng, x, y);
+            up = dvec3(x, y, std::sqrt(1.0 - r2));
             if (sheet.upward_through_prisms) {
                 // The adjoint of the way down along -up.
                 const PrismOutcome o = trace_prism(sheet, -up, rng);
@@ -432,8 +526,24 @@ dvec3 Grid::direction(double x, double y, double& jacobian) const {
 
 int Grid::cell_of(const dvec3& w) const {
     if (kind == kCone) return glm::dot(w, c) >= std::cos(x1) ? 0 : -1;
+    if (kind == kStrip) {
+        // Most directions are far outside the band: y = asin(t), t = w.e2, and |asin t| >= |t|
+        // (also as computed: a faithfully rounded asin(t) is still >= t, t being representable), so
+        // t > y1 >= 0 or t < y0 <= 0 is outside without the asin and atan2 of params.
+        const double t = glm::dot(w, e2);
+        if ((y1 >= 0 && t > y1) || (y0 <= 0 && t < y0)) return -1;
+    }
     double x, y;
-    if (!params(w, x, y)) return -1;
+    if (kind == kGnomonic) {
+        // params' gnomonic case, inline: slopes, rejected before the second division.
+        const double cp = glm::dot(w, c);
+        if (!(cp > 0)) return -1;
+        x = glm::dot(w, e1) / cp;
+        if (!(x >= x0 && x < x1)) return -1;
+        y = glm::dot(w, e2) / cp;
+    } else if (!params(w, x, y)) {
+        return -1;
+    }
     if (!(x >= x0 && x < x1 && y >= y0 && y < y1)) {
         // The disk's outer edge (x or y = 1) belongs to the last cell.
         if (kind == kDisk && x >= x0 && x <= x1 && y >= y0 && y <= y1) {
@@ -606,6 +716,8 @@ Run simulate(const Sheet& sheet, const dvec3& wiIn, const std::vector<Grid>& gri
     dvec3 e1, e2;
     lobe_frame(wi, e1, e2);
     std::atomic<std::uint64_t> nextChunk{0}, done{0};
+    std::mutex doneMutex;
+    std::condition_variable doneCv;
     auto worker = [&](int id) {
         // A tally on this thread's own stack and heap (no false sharing of the per-ray counters
         // between threads), handed over at the end.
@@ -643,7 +755,11 @@ Run simulate(const Sheet& sheet, const dvec3& wiIn, const std::vector<Grid>& gri
                 }
             }
             t.rays += n;
-            done += n;
+            if (done.fetch_add(n) + n == opt.rays) {
+                // The last rays: wake the progress loop at once (not at its next tick).
+                std::lock_guard<std::mutex> lock(doneMutex);
+                doneCv.notify_all();
+            }
         }
         local[size_t(id)] = std::move(t);
     };
@@ -652,9 +768,11 @@ Run simulate(const Sheet& sheet, const dvec3& wiIn, const std::vector<Grid>& gri
     for (int i = 0; i < run.threads; ++i)
         pool.emplace_back(worker, i);
     if (opt.progress) {
+        std::unique_lock<std::mutex> lock(doneMutex);
         while (done.load() < opt.rays) {
             opt.progress(done.load(), opt.rays);
-            std::this_thread::sleep_for(std::chrono::milliseconds(100));
+            doneCv.wait_for(lock, std::chrono::milliseconds(100),
+                            [&] { return done.load() >= opt.rays; });
         }
         opt.progress(opt.rays, opt.rays);
     }

@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "error.h"
+#include "parse.h"
 
 namespace retroprism::sim {
 
@@ -264,10 +265,11 @@ std::string today() {
 }
 
 // Cone-to-cone runs of one material: for each probe cone A, a run with incidence spread over A
-// counting the exits in every cone B (Q(A, B) / Omega_p(A)); the pairs a < b.
-std::vector<RecipPair> reciprocity_runs(double alpha, double eta, int prism, std::uint64_t rays,
-                                        std::uint64_t seed, int threads,
-                                        const StudyObserver& observer, StudyResults& out) {
+// counting the exits in every cone B (Q(A, B) / Omega_p(A)); the pairs a < b go to unit.pairs,
+// the rays and seconds to unit's, the most threads a run used to threadsUsed.
+void reciprocity_runs(double alpha, double eta, int prism, std::uint64_t rays, std::uint64_t seed,
+                      int threads, const StudyObserver& observer, UnitResult& unit,
+                      int& threadsUsed) {
     const std::vector<ProbeDir> dirs = probe_dirs();
     const double r = kRecipConeDeg * kDeg;
     const Sheet sheet = sheet_from_params(config_params(Config{0, alpha, eta, prism}, 0), 0);
@@ -287,8 +289,9 @@ std::vector<RecipPair> reciprocity_runs(double alpha, double eta, int prism, std
                                              fmt(" phi %g", dirs[a].phi));
         const dvec3 wa = direction_deg(dirs[a].theta, dirs[a].phi);
         const Run run = simulate(sheet, wa, cones, opt);
-        out.simSeconds += run.seconds;
-        out.simRays += double(run.tally.rays);
+        unit.seconds += run.seconds;
+        unit.rays += run.tally.rays;
+        threadsUsed = std::max(threadsUsed, run.threads);
         // Omega_p(A) = pi sin^2 r cos(theta_A) for a cone above the horizon.
         const double projA = kPi * std::sin(r) * std::sin(r) * wa.z;
         for (size_t b = 0; b < dirs.size(); ++b) {
@@ -299,7 +302,6 @@ std::vector<RecipPair> reciprocity_runs(double alpha, double eta, int prism, std
             q[a][b] = e;
         }
     }
-    std::vector<RecipPair> pairs;
     for (size_t a = 0; a < dirs.size(); ++a)
         for (size_t b = a + 1; b < dirs.size(); ++b) {
             RecipPair p;
@@ -310,14 +312,136 @@ std::vector<RecipPair> reciprocity_runs(double alpha, double eta, int prism, std
             p.b = int(b);
             p.qab = q[a][b];
             p.qba = q[b][a];
-            pairs.push_back(p);
+            unit.pairs.push_back(p);
         }
-    return pairs;
 }
 
 // The relative asymmetry |x - y| / mean, appended when the pair is not zero.
 void add_asymmetry(std::vector<double>& out, double x, double y) {
     if (x + y > 1e-12) out.push_back(std::abs(x - y) / (0.5 * (x + y)));
+}
+
+// Runs unit `index` of `units` (study_units(so)), of `configs` configurations.
+UnitResult run_unit(const std::vector<StudyUnit>& units, size_t index, size_t configs,
+                    const StudyOptions& so, const StudyObserver& observer, int& threadsUsed) {
+    const StudyUnit& u = units[index];
+    UnitResult out;
+    out.index = index;
+    auto progress = [&](const std::string& label) {
+        return observer.progress ? observer.progress(label) : RunOptions::Progress();
+    };
+    if (u.kind == UnitKind::Reciprocity) {
+        reciprocity_runs(u.c.alpha, u.c.eta, u.c.prism, so.recipRays, u.seed, so.threads, observer,
+                         out, threadsUsed);
+        return out;
+    }
+    const bool config = u.kind == UnitKind::Config;
+    // Config: the simulator's reciprocal way up, and the variants; Direct: the paper's way up
+    // (substrate light straight to the top surface), for the diffuse lobe.
+    const std::string label = config ? fmt("[%.0f/", double(index + 1)) +
+                                           fmt("%.0f] ", double(configs)) + config_label(u.c)
+                                     : "[way up direct] " + config_label(u.c);
+    out.config = run_config(u.c, u.rays, u.seed, config, config, so.threads, progress(label));
+    out.rays = out.config.sim.rays;
+    out.seconds = out.config.sim.seconds;
+    threadsUsed = std::max(threadsUsed, out.config.sim.threads);
+    if (config && observer.config_done) observer.config_done(out.config);
+    return out;
+}
+
+std::string shard_text(ShardSpec s) {
+    return fmt("%.0f/", s.k) + fmt("%.0f", s.n);
+}
+
+// A shard as the merge's errors name it: its file.
+std::string shard_name(const StudyShard& p) {
+    return p.source.empty() ? "shard " + shard_text(p.shard) : p.source;
+}
+
+// The options that make a study, as the command line gives them.
+std::string options_text(const StudyOptions& o) {
+    return "--rays " + std::to_string(o.rays) + " --diffuse-rays " + std::to_string(o.diffuseRays) +
+           " --recip-rays " + std::to_string(o.recipRays) + " --seed " + std::to_string(o.seed) +
+           (o.quick ? " --quick" : "");
+}
+
+std::string unit_label(const StudyUnit& u) {
+    return u.kind == UnitKind::Config ? "configuration " + config_label(u.c)
+           : u.kind == UnitKind::Direct
+               ? "way-up-direct configuration " + config_label(u.c)
+               : "reciprocity runs of " + material_key(u.c.alpha, u.c.eta, u.c.prism);
+}
+
+// Whether a unit's results are those of unit u: its configuration, or its material's pairs.
+bool unit_matches(const UnitResult& r, const StudyUnit& u) {
+    const Config& c = r.config.c;
+    if (u.kind != UnitKind::Reciprocity)
+        return c.theta == u.c.theta && c.alpha == u.c.alpha && c.eta == u.c.eta &&
+               c.prism == u.c.prism && r.pairs.empty();
+    const size_t dirs = probe_dirs().size();
+    if (r.pairs.size() != dirs * (dirs - 1) / 2) return false;
+    for (const RecipPair& p : r.pairs)
+        if (p.alpha != u.c.alpha || p.eta != u.c.eta || p.prism != u.c.prism) return false;
+    return true;
+}
+
+// Shard p holds exactly its own units (owner: shard_assignment), each with its unit's results.
+void check_shard_units(const StudyShard& p, const std::vector<StudyUnit>& units,
+                       const std::vector<int>& owner) {
+    std::vector<size_t> own;
+    for (size_t i = 0; i < units.size(); ++i)
+        if (owner[i] == p.shard.k) own.push_back(i);
+    for (size_t j = 0; j < std::max(own.size(), p.units.size()); ++j) {
+        const size_t held = j < p.units.size() ? p.units[j].index : units.size();
+        if (j < p.units.size() && held >= units.size())
+            throw InputError(shard_name(p) + ": unit " + std::to_string(held) + ", of a study of " +
+                             std::to_string(units.size()) + " units");
+        const size_t want = j < own.size() ? own[j] : units.size();
+        if (held < want)
+            throw InputError(shard_name(p) + ": shard " + shard_text(p.shard) + " holds unit " +
+                             std::to_string(held) + " (" + unit_label(units[held]) +
+                             "), which is shard " + shard_text({owner[held], p.shard.n}) + "'s");
+        if (held > want)
+            throw InputError(shard_name(p) + ": shard " + shard_text(p.shard) + " lacks its unit " +
+                             std::to_string(want) + " (" + unit_label(units[want]) + ")");
+        if (!unit_matches(p.units[j], units[want]))
+            throw InputError(shard_name(p) + ": unit " + std::to_string(want) +
+                             " does not hold the results of its " + unit_label(units[want]));
+    }
+}
+
+// The shards of merge_study_shards by K (InputError naming the offending file unless they are
+// all N shards of one study, each once, each holding its own units).
+std::vector<const StudyShard*> shards_by_k(const std::vector<StudyShard>& parts,
+                                           const std::vector<StudyUnit>& units) {
+    const StudyShard& first = parts[0];
+    const int n = first.shard.n;
+    std::vector<const StudyShard*> byK(size_t(std::max(n, 0)), nullptr);
+    for (const StudyShard& p : parts) {
+        if (options_text(p.options) != options_text(first.options))
+            throw InputError(shard_name(p) + ": a shard of another study (" +
+                             options_text(p.options) + "; " + shard_name(first) + ": " +
+                             options_text(first.options) + ")");
+        if (p.shard.n != n || p.shard.k < 1 || p.shard.k > n)
+            throw InputError(shard_name(p) + ": shard " + shard_text(p.shard) + ", but " +
+                             shard_name(first) + " is one of " + fmt("%.0f", n) + " shards");
+        const StudyShard*& slot = byK[size_t(p.shard.k - 1)];
+        if (slot)
+            throw InputError(shard_name(p) + ": shard " + shard_text(p.shard) + " again (" +
+                             shard_name(*slot) + " is shard " + shard_text(p.shard) + ")");
+        slot = &p;
+    }
+    std::string given;
+    for (const StudyShard* p : byK)
+        if (p) given += (given.empty() ? "" : ", ") + shard_name(*p) + " " + shard_text(p->shard);
+    for (int k = 1; k <= n; ++k)
+        if (!byK[size_t(k - 1)])
+            throw InputError("merging shards: shard " + shard_text({k, n}) +
+                             " is missing (given: " + given + ")");
+    const std::vector<int> owner = shard_assignment(units, n);
+    for (const StudyShard* p : byK)
+        check_shard_units(*p, units, owner);
+    return byK;
 }
 
 } // namespace
@@ -428,8 +552,12 @@ double reciprocity_z(const RecipPair& q, std::uint64_t rays) {
     return var > 0 ? (q.qab.value - q.qba.value) / std::sqrt(var) : 0.0;
 }
 
+double diffuse_alpha(bool quick) {
+    return quick ? study_grid(true).alphas[0] : kDiffuseAlpha;
+}
+
 double StudyResults::diffuse_alpha() const {
-    return options.quick ? grid.alphas[0] : kDiffuseAlpha;
+    return sim::diffuse_alpha(options.quick);
 }
 
 const ConfigResult& StudyResults::at(double theta, double alpha, double eta, int prism) const {
@@ -440,61 +568,136 @@ const ConfigResult& StudyResults::at(double theta, double alpha, double eta, int
                      config_label(Config{theta, alpha, eta, prism}));
 }
 
-StudyResults run_study(const StudyOptions& so, const StudyObserver& observer) {
-    StudyResults out;
-    out.options = so;
-    out.grid = study_grid(so.quick);
-    out.machine = machine_description();
-    out.date = today();
-    const StudyGrid& g = out.grid;
-    auto progress = [&](const std::string& label) {
-        return observer.progress ? observer.progress(label) : RunOptions::Progress();
-    };
-    const auto t0 = std::chrono::steady_clock::now();
-    const std::string loadStart = load_average();
-    std::uint64_t k = 0;
+StudyResults without_metadata(StudyResults s) {
+    s.machine.clear();
+    s.date.clear();
+    s.simSeconds = s.elapsed = 0;
+    s.threadsUsed = 0;
+    for (auto* list : {&s.results, &s.direct})
+        for (ConfigResult& r : *list) {
+            r.sim.seconds = 0;
+            r.sim.threads = 0;
+        }
+    return s;
+}
+
+std::vector<StudyUnit> study_units(const StudyOptions& so) {
+    const StudyGrid g = study_grid(so.quick);
+    std::vector<StudyUnit> units;
     for (double eta : g.etas)
         for (int prism : g.prisms)
             for (double alpha : g.alphas)
-                for (double theta : g.thetas) {
-                    const Config c{theta, alpha, eta, prism};
-                    const std::string label = fmt("[%.0f/", double(out.results.size() + 1)) +
-                                              fmt("%.0f] ", double(g.size())) + config_label(c);
-                    out.results.push_back(run_config(c, so.rays, so.seed + k++, true, true,
-                                                     so.threads, progress(label)));
-                    const ConfigResult& r = out.results.back();
-                    out.simSeconds += r.sim.seconds;
-                    out.simRays += double(r.sim.rays);
-                    out.threadsUsed = r.sim.threads;
-                    if (observer.config_done) observer.config_done(r);
-                }
-    // The paper's way up (substrate light straight to the top surface), for the diffuse lobe.
+                for (double theta : g.thetas)
+                    units.push_back({UnitKind::Config, Config{theta, alpha, eta, prism},
+                                     so.seed + units.size(), so.rays});
     for (double eta : g.etas)
         for (int prism : g.prisms)
-            for (double theta : g.thetas) {
-                const Config c{theta, out.diffuse_alpha(), eta, prism};
-                out.direct.push_back(run_config(c, so.diffuseRays, so.seed + 100000 + k++, false,
-                                                false, so.threads,
-                                                progress("[way up direct] " + config_label(c))));
-                out.simSeconds += out.direct.back().sim.seconds;
-                out.simRays += double(out.direct.back().sim.rays);
-            }
-    // Reciprocity: cone-to-cone runs for every material.
+            for (double theta : g.thetas)
+                units.push_back({UnitKind::Direct,
+                                 Config{theta, diffuse_alpha(so.quick), eta, prism},
+                                 so.seed + 100000 + units.size(), so.diffuseRays});
     std::uint64_t m = 0;
     for (double eta : g.etas)
         for (int prism : g.prisms)
-            for (double alpha : g.alphas) {
-                const std::vector<RecipPair> rp =
-                    reciprocity_runs(alpha, eta, prism, so.recipRays, so.seed + 200000 + 100 * m++,
-                                     so.threads, observer, out);
-                out.pairs.insert(out.pairs.end(), rp.begin(), rp.end());
-            }
+            for (double alpha : g.alphas)
+                units.push_back({UnitKind::Reciprocity, Config{0, alpha, eta, prism},
+                                 so.seed + 200000 + 100 * m++, so.recipRays * probe_dirs().size()});
+    return units;
+}
+
+ShardSpec parse_shard(const std::string& text, const std::string& what, size_t units) {
+    const size_t slash = text.find('/');
+    const std::string range =
+        "expected K/N, whole numbers with 1 <= K <= N <= " + std::to_string(units) +
+        " (the study's work units)";
+    const auto part = [&](const std::string& t) {
+        const std::optional<double> v = try_parse_number(t);
+        if (!v || *v != std::floor(*v) || *v < 1 || *v > double(units))
+            throw InputError(what + " " + text + ": " + range);
+        return int(*v);
+    };
+    if (slash == std::string::npos) throw InputError(what + " " + text + ": " + range);
+    const ShardSpec s{part(text.substr(0, slash)), part(text.substr(slash + 1))};
+    if (s.k > s.n) throw InputError(what + " " + text + ": " + range);
+    return s;
+}
+
+std::vector<int> shard_assignment(const std::vector<StudyUnit>& units, int n) {
+    std::vector<size_t> order(units.size());
+    for (size_t i = 0; i < order.size(); ++i)
+        order[i] = i;
+    std::stable_sort(order.begin(), order.end(),
+                     [&](size_t a, size_t b) { return units[a].rays > units[b].rays; });
+    std::vector<std::uint64_t> load(size_t(std::max(n, 1)), 0);
+    std::vector<int> shard(units.size(), 1);
+    for (size_t i : order) {
+        const size_t k = size_t(std::min_element(load.begin(), load.end()) - load.begin());
+        load[k] += units[i].rays;
+        shard[i] = int(k) + 1;
+    }
+    return shard;
+}
+
+StudyShard run_study_shard(const StudyOptions& so, ShardSpec shard, const StudyObserver& observer) {
+    StudyShard out;
+    out.options = so;
+    out.shard = shard;
+    out.machine = machine_description();
+    out.date = today();
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::string loadStart = load_average();
+    const std::vector<StudyUnit> units = study_units(so);
+    const std::vector<int> owner = shard_assignment(units, shard.n);
+    const size_t configs = study_grid(so.quick).size();
+    int threadsUsed = 1;
+    for (size_t i = 0; i < units.size(); ++i)
+        if (owner[i] == shard.k) {
+            out.units.push_back(run_unit(units, i, configs, so, observer, threadsUsed));
+            out.simSeconds += out.units.back().seconds;
+        }
+    out.threadsUsed = threadsUsed;
     out.elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     out.machine += "; 1-minute load average " + loadStart + " at the start and " + load_average() +
                    " at the end of the simulations (above the number of hardware threads, "
                    "other processes shared the cores and the rays/s below are lower than on an "
                    "idle machine)";
     return out;
+}
+
+StudyResults merge_study_shards(const std::vector<StudyShard>& parts) {
+    if (parts.empty()) throw InputError("merging shards: no shards given");
+    const std::vector<StudyUnit> units = study_units(parts[0].options);
+    const std::vector<const StudyShard*> byK = shards_by_k(parts, units);
+    StudyResults out;
+    out.options = parts[0].options;
+    out.grid = study_grid(out.options.quick);
+    std::vector<const UnitResult*> byIndex(units.size());
+    for (const StudyShard* p : byK)
+        for (const UnitResult& u : p->units)
+            byIndex[u.index] = &u;
+    for (size_t i = 0; i < units.size(); ++i) {
+        const UnitResult& u = *byIndex[i];
+        out.simRays += double(u.rays);
+        out.simSeconds += u.seconds;
+        if (units[i].kind == UnitKind::Config) out.results.push_back(u.config);
+        if (units[i].kind == UnitKind::Direct) out.direct.push_back(u.config);
+        out.pairs.insert(out.pairs.end(), u.pairs.begin(), u.pairs.end());
+    }
+    std::string firstDate = byK[0]->date, lastDate = firstDate;
+    for (const StudyShard* p : byK) {
+        out.elapsed = std::max(out.elapsed, p->elapsed);
+        out.threadsUsed = std::max(out.threadsUsed, p->threadsUsed);
+        const std::string which = byK.size() > 1 ? "shard " + shard_text(p->shard) + ": " : "";
+        out.machine += (out.machine.empty() ? "" : "; ") + which + p->machine;
+        firstDate = std::min(firstDate, p->date);
+        lastDate = std::max(lastDate, p->date);
+    }
+    out.date = firstDate == lastDate ? firstDate : firstDate + " to " + lastDate;
+    return out;
+}
+
+StudyResults run_study(const StudyOptions& so, const StudyObserver& observer) {
+    return merge_study_shards({run_study_shard(so, ShardSpec{1, 1}, observer)});
 }
 
 Reciprocity analyse_reciprocity(const StudyResults& s) {

@@ -137,10 +137,17 @@ struct StudyOptions {
     bool quick = false;
 };
 
+// The roughness of the diffuse-model runs of a study (--quick: its one roughness).
+double diffuse_alpha(bool quick);
+
+// The results of a study. Run metadata: machine, date, simSeconds, elapsed, threadsUsed and each
+// simulation's seconds and threads (SimResult) describe how and where it ran, not what it found;
+// everything else is a result, the same bits for the same options on any machine, with any
+// number of threads or shards.
 struct StudyResults {
     StudyOptions options;
     StudyGrid grid;
-    std::string machine, date; // of the run that simulated
+    std::string machine, date; // of the run that simulated (metadata)
     double simSeconds = 0, simRays = 0, elapsed = 0;
     int threadsUsed = 1;
     std::vector<ConfigResult> results; // by eta, prism, alpha, theta
@@ -152,6 +159,10 @@ struct StudyResults {
     const ConfigResult& at(double theta, double alpha, double eta, int prism) const;
 };
 
+// The study's results without their run metadata (StudyResults): those fields zero or empty, so
+// that two runs of the same study compare equal field by field and number by number.
+StudyResults without_metadata(StudyResults s);
+
 // What a study run reports while it runs: a progress callback per simulation (from its label),
 // and each configuration as it is done.
 struct StudyObserver {
@@ -159,6 +170,75 @@ struct StudyObserver {
     std::function<void(const ConfigResult&)> config_done;
 };
 
+// ---- Work units and shards --------------------------------------------------------------------
+// A study is a fixed list of work units, each simulated alone from its own seed: every
+// configuration (seed + k for the k-th, by eta, prism, alpha, theta), every configuration of the
+// paper's way up (seed + 100000 + k, k counting on after the configurations, by eta, prism,
+// theta) and the reciprocity runs of every material (seed + 200000 + 100 m for the m-th, by eta,
+// prism, alpha; its 11 cones of incidence seed + 200000 + 100 m + a). A shard K/N runs the units
+// shard_assignment gives it; merge_study_shards puts N shards' units back in their order, and
+// the whole study is the one shard 1/1, so a sharded study has the same results, bit for bit.
+
+enum class UnitKind { Config, Direct, Reciprocity };
+
+struct StudyUnit {
+    UnitKind kind;
+    Config c;               // Reciprocity: the material (theta 0)
+    std::uint64_t seed = 0; // of its (first) simulation
+    std::uint64_t rays = 0; // rays it simulates: the shards' balance
+};
+
+// The work units of a study, in their fixed order.
+std::vector<StudyUnit> study_units(const StudyOptions& options);
+
+// Shard K of N, 1 <= K <= N.
+struct ShardSpec {
+    int k = 1, n = 1;
+};
+
+// "K/N" as a shard of a study of `units` work units: InputError "<what> <text>: ..." naming the
+// allowed range unless K and N are whole numbers with 1 <= K <= N <= units.
+ShardSpec parse_shard(const std::string& text, const std::string& what, size_t units);
+
+// The shard (1..n) of each unit: the units by decreasing rays (ties in their order) each to the
+// shard with the fewest rays so far (ties to the lowest K). It depends on the units' ray counts
+// and n only, never on the machine or the threads.
+std::vector<int> shard_assignment(const std::vector<StudyUnit>& units, int n);
+
+// One unit's results: a configuration (Config, Direct) or the pairs of a material
+// (Reciprocity). seconds is run metadata.
+struct UnitResult {
+    size_t index = 0; // into study_units
+    std::uint64_t rays = 0;
+    double seconds = 0;
+    ConfigResult config;
+    std::vector<RecipPair> pairs;
+};
+
+// The partial results of one shard (sim/study_results.h writes and reads them). machine, date,
+// simSeconds, elapsed, threadsUsed and the units' seconds are run metadata.
+struct StudyShard {
+    StudyOptions options;
+    ShardSpec shard;
+    std::string source; // the file it was read from, for the merge's errors ("" when run here)
+    std::string machine, date;
+    double simSeconds = 0, elapsed = 0;
+    int threadsUsed = 1;
+    std::vector<UnitResult> units; // its units, in their order
+};
+
+// Runs the units of shard `shard` of the study.
+StudyShard run_study_shard(const StudyOptions& options, ShardSpec shard,
+                           const StudyObserver& observer = {});
+
+// The study from all N shards of it (in any order). InputError naming the offending file when the
+// shards are not of one study (options, grid or N differ), a shard is missing or given twice, or
+// a shard holds other units than its own. The results are the units' in their order; of the
+// metadata, the seconds of simulation add up, elapsed is the longest shard's, threadsUsed the
+// most any shard used, and machine and date name each shard's when there are several.
+StudyResults merge_study_shards(const std::vector<StudyShard>& parts);
+
+// The whole study: merge_study_shards of the one shard 1/1.
 StudyResults run_study(const StudyOptions& options, const StudyObserver& observer = {});
 
 // The relative asymmetries of the reciprocity test: the simulation's z-scores and relative

@@ -28,7 +28,6 @@ void csv_columns(Result& r, Visit&& visit) {
     visit("ior", r.c.eta);
     visit("prism_reflection", r.c.prism);
     visit("rays", s.rays);
-    visit("sim_seconds", s.seconds);
     visit("sim_retro_peak", s.peak.value);
     visit("sim_retro_peak_se", s.peak.se);
     visit("sim_fit_alpha_par", s.fit.ax);
@@ -83,13 +82,12 @@ std::vector<std::string> split_csv(const std::string& line) {
 // order.
 struct Archive {
     bool loading = false;
-    std::string source; // the file being loaded, for the errors
+    std::string where; // the option and file being loaded, for the errors ("--load FILE")
     std::vector<double> data;
     size_t pos = 0;
     void io(double& v) {
         if (loading) {
-            if (pos >= data.size())
-                throw InputError("--load " + source + ": the results file is truncated");
+            if (pos >= data.size()) throw InputError(where + ": the results file is truncated");
             v = data[pos++];
         } else {
             data.push_back(v);
@@ -101,9 +99,10 @@ struct Archive {
         io(d);
         // A count, flag or enum must be a whole number the type can hold.
         if constexpr (std::is_integral_v<T>)
+            // (below 2^digits: the type's maximum itself may round up to it as a double)
             if (!(d == std::floor(d) && d >= double(std::numeric_limits<T>::lowest()) &&
-                  d <= double(std::numeric_limits<T>::max())))
-                throw InputError("--load " + source + ": value " + std::to_string(pos) +
+                  d < std::ldexp(1.0, std::numeric_limits<T>::digits)))
+                throw InputError(where + ": value " + std::to_string(pos) +
                                  " of the results file is not a whole number in range");
         v = T(d);
     }
@@ -126,7 +125,7 @@ struct Archive {
         // Each element is at least one number: a longer list than the file holds is an error
         // before it is allocated.
         if (loading && n > data.size() - pos)
-            throw InputError("--load " + source + ": the results file is truncated");
+            throw InputError(where + ": the results file is truncated");
         if (loading) v.resize(size_t(n));
         for (T& x : v)
             io(x);
@@ -194,7 +193,96 @@ struct Archive {
         io(s.direct);
         io(s.pairs);
     }
+    // A shard: options, K/N, the grid, its metadata, then each unit's index, rays, seconds and
+    // results.
+    void io(StudyShard& s) {
+        io(s.options.quick);
+        for (std::uint64_t* v :
+             {&s.options.rays, &s.options.diffuseRays, &s.options.recipRays, &s.options.seed})
+            io(*v);
+        io(s.shard.k);
+        io(s.shard.n);
+        const std::vector<StudyUnit> units = study_units(s.options);
+        if (loading && !(s.shard.n >= 1 && size_t(s.shard.n) <= units.size() && s.shard.k >= 1 &&
+                         s.shard.k <= s.shard.n))
+            throw InputError(where + ": shard " + std::to_string(s.shard.k) + "/" +
+                             std::to_string(s.shard.n) +
+                             " is not K/N with 1 <= K <= N <= " + std::to_string(units.size()));
+        StudyGrid g = study_grid(s.options.quick);
+        for (auto* v : {&g.thetas, &g.alphas, &g.etas})
+            io(*v);
+        io(g.prisms);
+        const StudyGrid mine = study_grid(s.options.quick);
+        if (loading && !(g.thetas == mine.thetas && g.alphas == mine.alphas &&
+                         g.etas == mine.etas && g.prisms == mine.prisms))
+            throw InputError(where + ": the study's grid is not this program's" +
+                             (s.options.quick ? " --quick grid" : " grid"));
+        io(s.simSeconds);
+        io(s.elapsed);
+        io(s.threadsUsed);
+        std::uint64_t count = s.units.size();
+        io(count);
+        if (loading && count > units.size())
+            throw InputError(where + ": " + std::to_string(count) + " units, of a study of " +
+                             std::to_string(units.size()));
+        if (loading) s.units.resize(size_t(count));
+        size_t next = 0;
+        for (UnitResult& u : s.units) {
+            std::uint64_t index = u.index;
+            io(index);
+            if (loading && (index < next || index >= units.size()))
+                throw InputError(where + ": unit " + std::to_string(index) +
+                                 " is not after the previous unit and below " +
+                                 std::to_string(units.size()));
+            u.index = size_t(index);
+            next = u.index + 1;
+            io(u.rays);
+            io(u.seconds);
+            if (units[u.index].kind == UnitKind::Reciprocity)
+                io(u.pairs);
+            else
+                io(u.config);
+        }
+        if (loading && pos != data.size())
+            throw InputError(where + ": trailing numbers after the last unit (" +
+                             std::to_string(data.size() - pos) + ")");
+    }
 };
+
+// The first line of a shard's file.
+constexpr const char* kShardHeader = "retroprism accuracy study shard";
+
+// Writes the header lines, then the archive's numbers one per line in the round-trip-exact
+// %.17g; `what` ("--save FILE") names it in the error.
+void write_archive(const std::string& path, const std::string& header, const Archive& ar,
+                   const std::string& what) {
+    std::ofstream out(path);
+    out << header;
+    char buf[40];
+    for (double d : ar.data) {
+        std::snprintf(buf, sizeof buf, "%.17g\n", d);
+        out << buf;
+    }
+    if (!out) throw InputError(what + ": cannot write");
+}
+
+// The numbers that follow the header lines, for loading; `where` ("--load FILE") names the file
+// in the errors.
+Archive read_archive(std::istream& in, const std::string& where) {
+    Archive ar;
+    ar.loading = true;
+    ar.where = where;
+    std::string tok;
+    while (in >> tok) {
+        // Saved with %.17g: NaN and infinities are written as nan and inf.
+        const std::optional<double> v = try_parse_number(tok, false);
+        if (!v)
+            throw InputError(where + ": \"" + tok + "\" (value " +
+                             std::to_string(ar.data.size() + 1) + ") is not a number");
+        ar.data.push_back(*v);
+    }
+    return ar;
+}
 
 } // namespace
 
@@ -252,6 +340,9 @@ std::vector<ConfigResult> parse_results_csv(std::istream& in, const std::string&
                 field = prism_of_name(text);
                 if (field < 0)
                     throw InputError(where + ": unknown prism_reflection '" + text + "'");
+            } else if constexpr (std::is_integral_v<T>) {
+                // Counts: whole numbers a double holds exactly (no out-of-range conversion).
+                field = T(parse_count(text, where + ": " + name, 0, 9.0e15));
             } else {
                 field = T(parse_number(text, where + ": " + name));
             }
@@ -265,14 +356,7 @@ void save_study(const std::string& path, const StudyResults& s) {
     Archive ar;
     StudyResults copy = s;
     ar.io(copy);
-    std::ofstream out(path);
-    out << s.machine << "\n" << s.date << "\n";
-    char buf[40];
-    for (double d : ar.data) {
-        std::snprintf(buf, sizeof buf, "%.17g\n", d);
-        out << buf;
-    }
-    if (!out) throw InputError("--save " + path + ": cannot write");
+    write_archive(path, s.machine + "\n" + s.date + "\n", ar, "--save " + path);
 }
 
 StudyResults load_study(const std::string& path, bool quick) {
@@ -286,24 +370,47 @@ StudyResults parse_study(std::istream& in, const std::string& path, bool quick) 
     s.options.quick = quick;
     s.grid = study_grid(quick);
     std::getline(in, s.machine);
+    if (s.machine == kShardHeader)
+        throw InputError("--load " + path +
+                         ": the partial results of one shard (simulate "
+                         "--study --shard K/N); give every shard to --merge");
     std::getline(in, s.date);
-    Archive ar;
-    ar.loading = true;
-    ar.source = path;
-    std::string tok;
-    while (in >> tok) {
-        // Saved with %.17g: NaN and infinities are written as nan and inf.
-        const std::optional<double> v = try_parse_number(tok, false);
-        if (!v)
-            throw InputError("--load " + path + ": \"" + tok + "\" (value " +
-                             std::to_string(ar.data.size() + 1) + ") is not a number");
-        ar.data.push_back(*v);
-    }
+    Archive ar = read_archive(in, "--load " + path);
     ar.io(s);
     if (s.results.size() != s.grid.size())
         throw InputError("--load " + path + ": " + std::to_string(s.results.size()) +
                          " configurations, expected " + std::to_string(s.grid.size()) +
                          " (the same --quick as the run that saved it)");
+    return s;
+}
+
+void save_study_shard(const std::string& path, const StudyShard& s) {
+    Archive ar;
+    StudyShard copy = s;
+    ar.io(copy);
+    write_archive(path, std::string(kShardHeader) + "\n" + s.machine + "\n" + s.date + "\n", ar,
+                  "--save " + path);
+}
+
+StudyShard load_study_shard(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) throw InputError("--merge " + path + ": cannot open file");
+    return parse_study_shard(in, path);
+}
+
+StudyShard parse_study_shard(std::istream& in, const std::string& path) {
+    StudyShard s;
+    s.source = path;
+    std::string header;
+    std::getline(in, header);
+    if (header != kShardHeader)
+        throw InputError("--merge " + path +
+                         ": not the partial results of a shard (simulate "
+                         "--study --shard K/N --save FILE writes them)");
+    std::getline(in, s.machine);
+    std::getline(in, s.date);
+    Archive ar = read_archive(in, "--merge " + path);
+    ar.io(s);
     return s;
 }
 

@@ -1,7 +1,8 @@
 // study_results.h: the accuracy study's results on disk. One CSV schema (docs/accuracy/
 // results.csv: one row per configuration, the numbers behind every figure of docs/accuracy.md),
 // written and read here only; and the archive of a whole run (`simulate --study --save FILE`,
-// `--load FILE`) that redoes the document and plots without simulating.
+// `--load FILE`) that redoes the document and plots without simulating; the partial results of
+// one shard of a study (`--shard K/N --save FILE`, merged by `--merge`).
 #pragma once
 
 #include <istream>
@@ -29,5 +30,16 @@ void save_study(const std::string& path, const StudyResults& s);
 StudyResults load_study(const std::string& path, bool quick);
 // The same from a stream; `path` names it in the errors.
 StudyResults parse_study(std::istream& in, const std::string& path, bool quick);
+
+// The partial results of one shard (`simulate --study --shard K/N --save FILE`): a header line,
+// the machine and date lines, then, as the archive writes them, the options, K, N, the grid, the
+// shard's metadata, and each of its units' index, rays, seconds and results.
+void save_study_shard(const std::string& path, const StudyShard& s);
+// A shard written by save_study_shard, with source = path. InputError naming the file when it is
+// not a shard's file, is truncated or too long, has K/N out of range, a grid other than this
+// program's, or units out of order or not of its study.
+StudyShard load_study_shard(const std::string& path);
+// The same from a stream; `path` names it in the errors.
+StudyShard parse_study_shard(std::istream& in, const std::string& path);
 
 } // namespace retroprism::sim

@@ -15,4 +15,11 @@ std::string read_text_file(const std::string& path) {
     return ss.str();
 }
 
+std::string trim(const std::string& s) {
+    const size_t b = s.find_first_not_of(" \t\r\n");
+    if (b == std::string::npos) return "";
+    const size_t e = s.find_last_not_of(" \t\r\n");
+    return s.substr(b, e - b + 1);
+}
+
 } // namespace retroprism

@@ -3,7 +3,7 @@
 //
 //   node mx.cjs validate DOC.mtlx...            validate documents (with stdlib + rp_pbrlib)
 //   node mx.cjs implementations                 every rp nodedef has a genglsl implementation
-//   node mx.cjs generate DOC.mtlx OUTDIR        GLSL, ESSL and Vulkan shaders of every material
+//   node mx.cjs generate DOC.mtlx... OUTDIR     GLSL, ESSL and Vulkan shaders of every material
 //
 // Exit status 0 when everything succeeded; messages name the document and what failed.
 'use strict';
@@ -85,6 +85,36 @@ async function readDocument(mx, file, stdlib, lib) {
   return doc;
 }
 
+// Writes the shaders of every material of one document for one target; the failures.
+async function generateDocument(mx, file, name, gen, ctx, stdlib, lib, outDir) {
+  let doc;
+  try {
+    doc = await readDocument(mx, file, stdlib, lib);
+  } catch (e) {
+    console.log(`${file}: error: ${message(mx, e)}`);
+    return 1;
+  }
+  const materials = doc.getMaterialNodes();
+  if (materials.length === 0) {
+    console.log(`${file}: no surfacematerial`);
+    return 1;
+  }
+  let failures = 0;
+  for (const m of materials) {
+    try {
+      const shader = gen.generate(m.getName(), m, ctx);
+      const base = path.join(outDir, `${m.getName()}.${name}`);
+      fs.writeFileSync(`${base}.vert`, shader.getSourceCode('vertex'));
+      fs.writeFileSync(`${base}.frag`, shader.getSourceCode('pixel'));
+      console.log(`${file}: ${m.getName()} ${name}: generated ${base}.{vert,frag}`);
+    } catch (e) {
+      console.log(`${file}: ${m.getName()} ${name}: error: ${message(mx, e)}`);
+      failures++;
+    }
+  }
+  return failures;
+}
+
 async function main() {
   const [command, ...args] = process.argv.slice(2);
   const mx = await loadMaterialX();
@@ -122,7 +152,12 @@ async function main() {
       failures++;
     }
   } else if (command === 'generate') {
-    const [file, outDir] = args;
+    const files = args.slice(0, -1);
+    const outDir = args[args.length - 1];
+    if (files.length === 0) {
+      console.log('usage: node mx.cjs generate DOC.mtlx... OUTDIR');
+      process.exit(2);
+    }
     fs.mkdirSync(outDir, { recursive: true });
     const targets = [
       ['glsl', mx.GlslShaderGenerator, true],
@@ -131,34 +166,10 @@ async function main() {
     ];
     for (const [name, generator, lights] of targets) {
       const { gen, ctx, stdlib } = await context(mx, generator, lights);
-      let doc;
-      try {
-        doc = await readDocument(mx, file, stdlib, lib);
-      } catch (e) {
-        console.log(`${file}: error: ${message(mx, e)}`);
-        failures++;
-        continue;
-      }
-      const materials = doc.getMaterialNodes();
-      if (materials.length === 0) {
-        console.log(`${file}: no surfacematerial`);
-        failures++;
-      }
-      for (const m of materials) {
-        try {
-          const shader = gen.generate(m.getName(), m, ctx);
-          const base = path.join(outDir, `${m.getName()}.${name}`);
-          fs.writeFileSync(`${base}.vert`, shader.getSourceCode('vertex'));
-          fs.writeFileSync(`${base}.frag`, shader.getSourceCode('pixel'));
-          console.log(`${file}: ${m.getName()} ${name}: generated ${base}.{vert,frag}`);
-        } catch (e) {
-          console.log(`${file}: ${m.getName()} ${name}: error: ${message(mx, e)}`);
-          failures++;
-        }
-      }
+      for (const file of files) failures += await generateDocument(mx, file, name, gen, ctx, stdlib, lib, outDir);
     }
   } else {
-    console.log('usage: node mx.cjs validate DOC... | implementations | generate DOC OUTDIR');
+    console.log('usage: node mx.cjs validate DOC... | implementations | generate DOC... OUTDIR');
     process.exit(2);
   }
   process.exit(failures === 0 ? 0 : 1);

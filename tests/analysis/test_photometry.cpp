@@ -1,8 +1,10 @@
 // [photometry]: the R_A table against direct evaluation and its angle conventions; the
 // MaterialX reader (exact parameters, every error naming the element and its line); the ALTA
-// reader (errors naming file:line); the fitter recovering known parameters of both models from
-// synthetic data; `retroprism ra`, `fit --json` and `render` end to end (no output on a bad
-// document).
+// reader (errors naming file:line, files without #PARAM_OUT); the fitter recovering known
+// parameters of both models from synthetic data; the R_A table reader (every error naming
+// file:line and the expected form) and the R_A fit recovering the fittable inputs; `retroprism
+// ra`, `fit --json`, `fit --ra` and `render` end to end (no output on a bad input); a sign's
+// luminance on approach.
 #include <catch2/catch.hpp>
 
 #include <unistd.h>
@@ -12,18 +14,24 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "alta_reader.h"
+#include "approach.h"
 #include "baselines.h"
 #include "fitting.h"
 #include "mtlx_reader.h"
+#include "night_render.h"
 #include "photometry.h"
 #include "query.h"
+#include "ra_fit.h"
+#include "ra_table.h"
 #include "test_support.h"
 
 using namespace retroprism;
@@ -929,4 +937,338 @@ TEST_CASE("retroprism render: finite non-negative EXR layers and a PNG; nothing 
     CHECK(contains(noOut.output, "must be an OpenEXR file ending in .exr"));
     fs::remove_all(dir);
     fs::remove_all(badDir);
+}
+
+// =============================================================================================
+// R_A tables (fit --ra)
+
+namespace {
+
+RaMeasurements table_of(const std::string& text, const std::string& name = "t.csv") {
+    std::istringstream in(text);
+    return parse_ra_table(in, name);
+}
+
+// R_A of `truth` at observation x entrance angles (rows without rotation: the mean over 0 and
+// 90 degrees), as a table.
+RaMeasurements synthetic_table(const Params& truth, const std::vector<double>& observation,
+                               const std::vector<double>& entrance) {
+    RaMeasurements t;
+    t.file = "synthetic.csv";
+    for (double a : observation)
+        for (double b : entrance) {
+            RaEntry e;
+            e.observation_deg = a;
+            e.entrance_deg = b;
+            e.line = int(t.entries.size()) + 2;
+            t.entries.push_back(e);
+        }
+    const std::vector<double> v = ra_node_values(truth, t.entries);
+    for (size_t i = 0; i < v.size(); ++i)
+        t.entries[i].ra = v[i];
+    return t;
+}
+
+} // namespace
+
+TEST_CASE("R_A table reader: the DG983 preset, every column, comments", "[photometry]") {
+    const RaMeasurements dg = read_ra_table(source("examples/sheeting/dg983_white.csv"));
+    REQUIRE(dg.entries.size() == 6);
+    CHECK(contains(dg.comments.front(), "3M Diamond Grade"));
+    CHECK(dg.entries[0].observation_deg == 0.2);
+    CHECK(dg.entries[0].entrance_deg == -4);
+    CHECK(dg.entries[0].ra == 800);
+    CHECK_FALSE(dg.entries[0].rotation_deg.has_value());
+    CHECK(dg.entries[0].presentation_deg == 0);
+    CHECK(dg.entries[5].ra == 85);
+    // Columns in any order, blanks around fields, CRLF, an empty rotation field (the mean).
+    const RaMeasurements t = table_of("# a comment\r\n\r\n entrance_deg , ra,observation_deg,"
+                                      "rotation_deg,presentation_deg\r\n-4,800,0.2,0,0\r\n"
+                                      "  # another\n-4,760,0.2,90,5\n30,1e2,0.5,,-10\n");
+    REQUIRE(t.entries.size() == 3);
+    CHECK(t.comments == std::vector<std::string>{"a comment", "another"});
+    CHECK(t.entries[0].line == 4);
+    CHECK(t.entries[1].rotation_deg == 90.0);
+    CHECK(t.entries[1].presentation_deg == 5.0);
+    CHECK(t.entries[2].line == 7);
+    CHECK(t.entries[2].ra == 100.0);
+    CHECK_FALSE(t.entries[2].rotation_deg.has_value());
+}
+
+TEST_CASE("R_A table reader: errors name file:line, the column and the expected form",
+          "[photometry]") {
+    const std::string head = "observation_deg,entrance_deg,ra\n";
+    struct Case {
+        std::string text, expect;
+    };
+    const std::vector<Case> cases = {
+        {"observation,entrance_deg,ra\n0.2,-4,800\n",
+         "t.csv:1, column 1: unknown column \"observation\"; expected a header row "
+         "observation_deg,entrance_deg,ra[,rotation_deg][,presentation_deg]"},
+        {"observation_deg,ra,ra\n", "t.csv:1, column 3: column \"ra\" appears twice"},
+        {"# c\nobservation_deg,ra\n0.2,5\n",
+         "t.csv:2: the header row has no column entrance_deg; expected observation_deg,"},
+        {head + "0.2,-4\n", "t.csv:2: 2 fields, but the header row has 3 columns"},
+        {head + "0.2,-4,abc\n",
+         "t.csv:2, column 3 (ra): \"abc\" is not a number; expected an R_A in cd lx^-1 m^-2 "
+         "greater than 0"},
+        {head + "0.2,-4,\n", "t.csv:2, column 3 (ra): \"\" is not a number"},
+        {head + "0.2,-4,nan\n", "t.csv:2, column 3 (ra): \"nan\" is not a number"},
+        {head + "0.2,-4,0\n", "t.csv:2, column 3 (ra): 0 is out of range; expected an R_A"},
+        {head + "0.2,-4,-5\n", "t.csv:2, column 3 (ra): -5 is out of range"},
+        {head + "0,-4,5\n",
+         "t.csv:2, column 1 (observation_deg): 0 is out of range; expected an observation angle "
+         "in (0, 5] degrees"},
+        {head + "5.5,-4,5\n", "t.csv:2, column 1 (observation_deg): 5.5 is out of range"},
+        {head + "0.2,90,5\n",
+         "t.csv:2, column 2 (entrance_deg): 90 is out of range; expected an entrance angle in "
+         "(-90, 90) degrees"},
+        {head + "0.2,-90,5\n", "t.csv:2, column 2 (entrance_deg): -90 is out of range"},
+        {"observation_deg,entrance_deg,ra,rotation_deg\n0.2,-4,5,400\n",
+         "t.csv:2, column 4 (rotation_deg): 400 is out of range; expected a rotation angle in "
+         "[-360, 360] degrees"},
+        {head + "0.2,-4,800\n\n0.2,-4.0,790\n",
+         "t.csv:4: a second row for observation 0.2, entrance -4, rotation mean of 0 and 90, "
+         "presentation 0 (the first is line 2); expected one measurement per row"},
+        {"# only comments\n", "t.csv:1: no header row; expected a header row"},
+        {head, "t.csv:1: no rows; expected one row per measurement"},
+    };
+    for (const Case& c : cases) {
+        INFO(c.text);
+        try {
+            table_of(c.text);
+            FAIL("no error");
+        } catch (const InputError& e) {
+            CHECK(contains(e.what(), c.expect));
+        }
+    }
+    // Rows at the same angles but another rotation are different measurements.
+    CHECK(table_of("observation_deg,entrance_deg,ra,rotation_deg\n0.2,-4,8,0\n0.2,-4,7,90\n"
+                   "0.2,-4,7.5,\n")
+              .entries.size() == 3);
+    try {
+        read_ra_table("/nonexistent/t.csv");
+        FAIL("no error");
+    } catch (const InputError& e) {
+        CHECK(contains(e.what(), "/nonexistent/t.csv: cannot open file"));
+    }
+}
+
+TEST_CASE("R_A of an entry: presentation turns the observer about the source; no rotation is "
+          "the mean of 0 and 90 degrees",
+          "[photometry]") {
+    glm::dvec3 wi, wo, wi0, wo0;
+    ra_directions(30.0, 0.5, 20.0, wi0, wo0);
+    ra_directions(30.0, 0.5, 20.0, wi, wo, 0.0);
+    CHECK(wo == wo0);
+    ra_directions(30.0, 0.5, 20.0, wi, wo, 90.0);
+    CHECK(wi == wi0);
+    CHECK(std::acos(glm::dot(wi, wo)) / kDeg == Approx(0.5).epsilon(1e-6));
+    CHECK(glm::length(wo - wo0) > 0.5 * 0.5 * kDeg);
+    ra_directions(30.0, 0.5, 20.0, wi, wo, 180.0);
+    // Turned by 180 degrees about wi: the observer on the far side (theta_o = 30.5 degrees).
+    CHECK(std::acos(wo.z) / kDeg == Approx(30.5).epsilon(1e-6));
+    // Rotation-sensitive prisms: a row without rotation is the mean over 0 and 90 degrees.
+    Params o;
+    o.era_mode = 2; // oriented
+    const PrismaticRetroreflector<double> node(ra_params(o));
+    RaEntry e;
+    e.observation_deg = 0.2;
+    e.entrance_deg = 45;
+    RaEntry r0 = e, r90 = e;
+    r0.rotation_deg = 0.0;
+    r90.rotation_deg = 90.0;
+    const double a = ra_at_entry(node, r0), b = ra_at_entry(node, r90);
+    CHECK(a != Approx(b).epsilon(0.05));
+    CHECK(ra_at_entry(node, e) == Approx(0.5 * (a + b)).epsilon(1e-12));
+    CHECK(a == Approx(luminance_709(ra_value(node, 45.0, 0.2, 0.0))).epsilon(1e-12));
+}
+
+TEST_CASE("fit --ra: the fittable inputs of the parameter table are recovered from a synthetic "
+          "table",
+          "[photometry]") {
+    // The fitted inputs are the table's RP_FIT lines.
+    std::vector<std::string> names;
+    for (const FitInfo& f : fit_table())
+        names.push_back(f.param->name);
+    for (const char* n : {"retro_color", "roughness", "ior", "prism_reflection"})
+        CHECK(std::count(names.begin(), names.end(), n) == 1);
+    Params truth;
+    truth.roughness = 0.02;
+    truth.ior = 1.58;
+    truth.retro_color = {0.7, 0.7, 0.7};
+    truth.prism_reflection = 1; // tir
+    const RaMeasurements t =
+        synthetic_table(truth, {0.1, 0.2, 0.33, 0.5, 1.0}, {-4.0, 15.0, 30.0, 40.0});
+    const auto t0 = std::chrono::steady_clock::now();
+    const RaNodeFit f = fit_ra_node(t);
+    const double secs =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    CHECK(f.fitted == names);
+    CHECK(f.params.prism_reflection == 1);
+    CHECK(f.params.roughness == Approx(0.02).epsilon(1e-3));
+    CHECK(f.params.ior == Approx(1.58).epsilon(1e-3));
+    CHECK(f.params.retro_color[0] == Approx(0.7).epsilon(1e-3));
+    CHECK(f.params.retro_color[2] == f.params.retro_color[0]);
+    // Not fitted: the base's.
+    CHECK(f.params.diffuse_color == Params().diffuse_color);
+    CHECK(f.report.max_error < 1e-3);
+    std::printf("MEASURED: fit --ra on %zu synthetic entries: roughness %.6g (0.02), ior %.6g "
+                "(1.58), retro_color %.6g (0.7), max error %.2e, %d evaluations, %.1f s\n",
+                t.entries.size(), f.params.roughness, f.params.ior, f.params.retro_color[0],
+                f.report.max_error, f.evaluations, secs);
+    // The baseline's GGX lobe is the same at every entrance angle: it cannot follow the fall-off.
+    const RaMrmFit m = fit_ra_mrm(t);
+    CHECK(m.report.log_rms > 5 * f.report.log_rms);
+    // The document's values give what the report says: the fitted values are rounded.
+    const std::vector<double> again = ra_node_values(f.params, t.entries);
+    CHECK(again == f.report.model);
+    // Fewer rows than fitted inputs.
+    RaMeasurements few = t;
+    few.entries.resize(names.size() - 1);
+    std::string list;
+    for (const std::string& n : names)
+        list += (list.empty() ? "" : ", ") + n;
+    try {
+        fit_ra_node(few);
+        FAIL("no error");
+    } catch (const InputError& e) {
+        CHECK(contains(e.what(), "synthetic.csv: " + std::to_string(names.size() - 1) +
+                                     " rows, fewer than the " + std::to_string(names.size()) +
+                                     " inputs fitted (" + list + "); give at least " +
+                                     std::to_string(names.size()) + " rows"));
+    }
+}
+
+TEST_CASE("fit --ra on the DG983 preset: JSON, plot and a document that ra --document "
+          "reproduces",
+          "[photometry]") {
+    const fs::path dir = temp_dir("fit_ra");
+    const std::string table = source("examples/sheeting/dg983_white.csv");
+    const fs::path doc = dir / "dg983.mtlx", png = dir / "dg983.png";
+    Run r = cli("fit --ra " + table + " --json --mtlx " + doc.string() + " --name dg983_white" +
+                " --plot " + png.string());
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+    const json j = json::parse(r.output.substr(r.output.find('{')));
+    REQUIRE(j["entries"].size() == 6);
+    const MtlxDocument d = read_mtlx(doc.string());
+    REQUIRE(d.materials.size() == 1);
+    CHECK(d.materials[0].name == "dg983_white");
+    // The document is the JSON's material.
+    CHECK(params_to_json(d.materials[0].params) == j["params"]);
+    // Its R_A at the table's entries is the fit's, to the digits printed.
+    Run ra = cli("ra --document " + doc.string() + " --table " + table);
+    INFO(ra.output);
+    REQUIRE(ra.status == 0);
+    const std::vector<double> v =
+        ra_node_values(d.materials[0].params, read_ra_table(table).entries);
+    for (size_t i = 0; i < v.size(); ++i) {
+        CHECK(v[i] == j["entries"][i]["node"].get<double>());
+        char buf[32];
+        std::snprintf(buf, sizeof buf, "%10.4g", v[i]);
+        CHECK(contains(ra.output, buf));
+    }
+    // The document names its source and its errors.
+    std::ifstream f(doc);
+    const std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    CHECK(contains(text, "3M Product Bulletin 983 (2009)"));
+    CHECK(contains(text, "largest error"));
+    std::ifstream p(png, std::ios::binary);
+    char magic[4] = {0, 0, 0, 0};
+    p.read(magic, 4);
+    CHECK(std::string(magic + 1, 3) == "PNG");
+    // A bad table: an error naming file:line, nothing written.
+    std::ofstream(dir / "bad.csv") << "observation_deg,entrance_deg,ra\n0.2,-4,800\n9,-4,1\n";
+    Run bad =
+        cli("fit --ra " + (dir / "bad.csv").string() + " --mtlx " + (dir / "bad.mtlx").string());
+    CHECK(bad.status != 0);
+    CHECK(contains(bad.output, "bad.csv:3, column 1 (observation_deg): 9 is out of range"));
+    CHECK_FALSE(fs::exists(dir / "bad.mtlx"));
+    fs::remove_all(dir);
+}
+
+TEST_CASE("ALTA file without #PARAM_OUT: read as BRDF x cos(theta_v) with a warning, or as "
+          "--param-out says",
+          "[photometry]") {
+    const std::string text = "#DIM 3 1\n#PARAM_IN ISOTROPIC_TL_TV_PROJ_DPHI\n"
+                             "0.5 1.0471975511965976 0 2.0\n";
+    const AltaData a = parse_alta(text, "n.dat");
+    CHECK(a.cosine_factor);
+    CHECK(a.param_out == "INV_STERADIAN_COSINE_FACTOR");
+    CHECK(contains(a.warning, "n.dat: no #PARAM_OUT before the data (line 3); the values are "
+                              "taken as BRDF x cos(theta_v) (INV_STERADIAN_COSINE_FACTOR"));
+    CHECK(a.samples[0].value_cos(a.cosine_factor) == 2.0);
+    const AltaData b = parse_alta(text, "n.dat", "INV_STERADIAN");
+    CHECK_FALSE(b.cosine_factor);
+    CHECK(b.warning.empty());
+    CHECK(b.samples[0].value_cos(b.cosine_factor) == Approx(1.0));
+    // A file that has #PARAM_OUT: no warning; a contradicting --param-out is an error.
+    const std::string declared = "#DIM 3 1\n#PARAM_IN ISOTROPIC_TL_TV_PROJ_DPHI\n"
+                                 "#PARAM_OUT INV_STERADIAN_COSINE_FACTOR\n0.5 0 0 1\n";
+    CHECK(parse_alta(declared, "d.dat").warning.empty());
+    for (const auto& [file, paramOut, expect] :
+         std::vector<std::tuple<std::string, std::string, std::string>>{
+             {declared, "INV_STERADIAN",
+              "d.dat:3: #PARAM_OUT INV_STERADIAN_COSINE_FACTOR "
+              "contradicts --param-out INV_STERADIAN"},
+             {text, "RGB", "--param-out RGB: expected INV_STERADIAN_COSINE_FACTOR"},
+             {text + "#PARAM_OUT INV_STERADIAN\n", "", "d.dat:4: #PARAM_OUT after data lines"}}) {
+        try {
+            parse_alta(file, "d.dat", paramOut);
+            FAIL("no error");
+        } catch (const InputError& e) {
+            CHECK(contains(e.what(), expect));
+        }
+    }
+    // retroprism fit prints the warning and fits.
+    const fs::path dir = temp_dir("alta_no_param_out");
+    {
+        std::ifstream in(source("tests/data/belcour2014/retro-3M-jaune.dat"));
+        std::ofstream out(dir / "no_param_out.dat");
+        std::string line;
+        while (std::getline(in, line))
+            if (line.rfind("#PARAM_OUT", 0) != 0) out << line << "\n";
+    }
+    Run r = cli("fit --json " + (dir / "no_param_out.dat").string());
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+    CHECK(contains(r.output, "warning: " + (dir / "no_param_out.dat").string() +
+                                 ": no #PARAM_OUT before the data"));
+    fs::remove_all(dir);
+}
+
+TEST_CASE("A sign's luminance on approach: the driver's geometry and L = R_A E / cos(theta_o)",
+          "[photometry]") {
+    Params p;
+    p.roughness = 0.01;
+    ApproachSettings s;
+    const std::vector<ApproachPoint> a = approach_luminance(node_lobes(p), s);
+    REQUIRE(a.size() == size_t(s.steps));
+    CHECK(a.front().distance == s.far_m);
+    CHECK(a.back().distance == s.near_m);
+    // The 30 m geometry of ASTM E1710: observation angle 1.05 degrees (the sign's offset from
+    // the road's axis changes it by a few thousandths).
+    CHECK(a.back().observation_deg == Approx(1.05).margin(0.02));
+    CHECK(a.front().observation_deg == Approx(std::atan(0.55 / 300.0) / kDeg).epsilon(0.02));
+    for (const ApproachPoint& q : a) {
+        const double r2 =
+            q.distance * q.distance + s.sign_right * s.sign_right + s.sign_up * s.sign_up;
+        // cos(theta_o) of the eye is that of the lamp to within the observation angle.
+        const double cosO = std::cos(q.entrance_deg * kDeg);
+        CHECK(q.luminance == Approx(q.ra * s.lamp_cd / r2 / cosO).epsilon(2e-3));
+    }
+    // The luminance scales with the lamp; the R_A does not.
+    ApproachSettings bright = s;
+    bright.lamp_cd = 2 * s.lamp_cd;
+    const std::vector<ApproachPoint> b = approach_luminance(node_lobes(p), bright);
+    CHECK(b[10].luminance == Approx(2 * a[10].luminance).epsilon(1e-12));
+    CHECK(b[10].ra == a[10].ra);
+    // The baseline's lobes: its f.
+    baselines::RetroreflectiveGGX m;
+    const LobeBrdf lobes = mrm_lobes(m);
+    const glm::dvec3 wi(0.3, 0.1, std::sqrt(0.9)), wo(0.2, 0.0, std::sqrt(0.96));
+    glm::dvec3 l[3];
+    lobes(wi, wo, l);
+    CHECK(luminance_709(l[0] + l[1] + l[2]) == Approx(luminance_709(m.f(wi, wo))).epsilon(1e-12));
 }

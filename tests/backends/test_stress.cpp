@@ -5,7 +5,8 @@
 //    combination and every single-input hard value, on every seventh direction pair (every
 //    13th for materialx), then random hard materials, through every backend (1e6, 1e6, 5e5 and
 //    9e4 evaluations). Required: no NaN, Inf or negative value, no guard violation, no
-//    sample/pdf inconsistency.
+//    sample/pdf inconsistency. These sweeps are tagged [ci]: the ctest entry stress_ci (label
+//    ci), which .ci/run runs after the README's test command.
 //  - The generator itself (stress::material, stress::stress_pairs): it reaches the hard values
 //    and is deterministic.
 //  - The checked-in fuzz corpus (fuzz/corpus/<target>/) replayed through the fuzz targets'
@@ -83,24 +84,24 @@ void require_clean(const stress::Tally& t) {
 
 } // namespace
 
-TEST_CASE("bounded adversarial sweep: cpp-double", "[stress]") {
+TEST_CASE("bounded adversarial sweep: cpp-double", "[stress][ci]") {
     const stress::Tally t = bounded_sweep("cpp-double");
     CHECK(t.samples > 0);
     CHECK(t.albedos > 0);
     require_clean(t);
 }
 
-TEST_CASE("bounded adversarial sweep: cpp-float", "[stress]") {
+TEST_CASE("bounded adversarial sweep: cpp-float", "[stress][ci]") {
     const stress::Tally t = bounded_sweep("cpp-float");
     CHECK(t.samples > 0);
     require_clean(t);
 }
 
-TEST_CASE("bounded adversarial sweep: glsl", "[stress]") {
+TEST_CASE("bounded adversarial sweep: glsl", "[stress][ci]") {
     require_clean(bounded_sweep("glsl"));
 }
 
-TEST_CASE("bounded adversarial sweep: materialx", "[stress]") {
+TEST_CASE("bounded adversarial sweep: materialx", "[stress][ci]") {
     require_clean(bounded_sweep("materialx"));
 }
 
@@ -167,11 +168,9 @@ TEST_CASE("the fuzz corpus replays cleanly", "[stress]") {
         const char* name;
         void (*check)(const std::uint8_t*, size_t);
     };
-    const Target targets[] = {{"closure", rpfuzz::check_closure},
-                              {"query", rpfuzz::check_query},
-                              {"mtlx", rpfuzz::check_mtlx},
-                              {"alta", rpfuzz::check_alta},
-                              {"study", rpfuzz::check_study}};
+    const Target targets[] = {{"closure", rpfuzz::check_closure},   {"query", rpfuzz::check_query},
+                              {"mtlx", rpfuzz::check_mtlx},         {"alta", rpfuzz::check_alta},
+                              {"ra_table", rpfuzz::check_ra_table}, {"study", rpfuzz::check_study}};
     for (const Target& t : targets) {
         int files = 0;
         for (const auto& entry : fs::directory_iterator(corpus / t.name)) {

@@ -107,17 +107,14 @@ TEST_CASE("Every variant compiles as GLSL 4.50, ESSL 3.00 and Vulkan GLSL", "[gl
 TEST_CASE("Each specialised variant computes what the C++ reference computes", "[glsl]") {
     const ToleranceContract contract;
     const std::vector<Query> queries = check_query_set();
-    long total = 0, leftOutNonZero = 0, leftOutValues = 0, bitCompared = 0, bitDiffering = 0;
+    long total = 0, leftOutNonZero = 0, leftOutValues = 0;
     double worstAll = 0;
-    // The full variant (cant_angle at run time) against the same variant with the cant fixed at
-    // 0 at generation time (the canted code left out), bit for bit: a cant_angle of 0 leaves
-    // the paper's cube's code unchanged.
-    const glsl::Variant fullVariant = glsl::standard_variants().front();
-    glsl::Variant uncanted = fullVariant;
-    uncanted.canted = false;
-    gl::Runner full(glsl::generate_library(fullVariant, RP_SOURCE_DIR));
-    gl::Runner paperCube(glsl::generate_library(uncanted, RP_SOURCE_DIR));
-    for (const glsl::Variant& v : glsl::standard_variants()) {
+    // The full variant is the glsl backend's library (the first test case): [backend] checks it
+    // against the same query set under the whole contract, so it is not run again here.
+    const std::vector<glsl::Variant> all = glsl::standard_variants();
+    REQUIRE(all.front().name == "prismatic_retroreflector");
+    const std::vector<glsl::Variant> specialised(all.begin() + 1, all.end());
+    for (const glsl::Variant& v : specialised) {
         INFO(v.name);
         gl::Runner runner(glsl::generate_library(v, RP_SOURCE_DIR));
         long samples = 0, over = 0;
@@ -132,17 +129,6 @@ TEST_CASE("Each specialised variant computes what the C++ reference computes", "
             for (const DirectionPair& s : q.samples)
                 pairs.push_back({s.wi, s.wo});
             const std::vector<gl::Result> got = runner.evaluate(q.material, pairs);
-            if (v.name == fullVariant.name) {
-                Params flat = q.material;
-                flat.cant_angle = 0.0;
-                const std::vector<gl::Result> a = full.evaluate(flat, pairs);
-                const std::vector<gl::Result> b = paperCube.evaluate(flat, pairs);
-                for (size_t i = 0; i < a.size(); ++i) {
-                    bitDiffering += a[i].surface != b[i].surface || a[i].retro != b[i].retro ||
-                                    a[i].diffuse != b[i].diffuse || a[i].pdf != b[i].pdf;
-                    ++bitCompared;
-                }
-            }
             const nlohmann::json ref = answer_query(q, "cpp-double")["results"];
             const bool on[3] = {v.surface, v.retro, v.diffuse};
             const char* keys[3] = {"surface", "retro", "diffuse"};
@@ -186,13 +172,41 @@ TEST_CASE("Each specialised variant computes what the C++ reference computes", "
     }
     CHECK(leftOutValues > 0);
     CHECK(leftOutNonZero == 0);
-    CHECK(bitCompared > 0);
-    CHECK(bitDiffering == 0);
-    std::printf("MEASURED: %zu GLSL variants on %s: %ld samples, worst lobe relative error %.3g; "
-                "%ld values of left-out lobes, %ld non-zero; cant_angle 0 in the full variant vs "
-                "the same with the cant fixed at 0: %ld samples, %ld differing\n",
-                glsl::standard_variants().size(), "llvmpipe", total, worstAll, leftOutValues,
-                leftOutNonZero, bitCompared, bitDiffering);
+    std::printf("MEASURED: %zu specialised GLSL variants on %s: %ld samples, worst lobe relative "
+                "error %.3g; %ld values of left-out lobes, %ld non-zero\n",
+                specialised.size(), "llvmpipe", total, worstAll, leftOutValues, leftOutNonZero);
+}
+
+TEST_CASE("cant_angle 0 in the full variant is the paper's cube's code, bit for bit", "[glsl]") {
+    // The full variant (cant_angle at run time) against the same variant with the cant fixed at
+    // 0 at generation time (the canted code left out): a cant_angle of 0 leaves the paper's
+    // cube's code unchanged.
+    const glsl::Variant fullVariant = glsl::standard_variants().front();
+    glsl::Variant uncanted = fullVariant;
+    uncanted.canted = false;
+    gl::Runner full(glsl::generate_library(fullVariant, RP_SOURCE_DIR));
+    gl::Runner paperCube(glsl::generate_library(uncanted, RP_SOURCE_DIR));
+    long compared = 0, differing = 0;
+    for (const Query& q : check_query_set()) {
+        Params flat = q.material;
+        flat.cant_angle = 0.0;
+        std::vector<std::array<Vec3d, 2>> pairs;
+        for (const DirectionPair& s : q.samples)
+            pairs.push_back({s.wi, s.wo});
+        const std::vector<gl::Result> a = full.evaluate(flat, pairs);
+        const std::vector<gl::Result> b = paperCube.evaluate(flat, pairs);
+        REQUIRE(a.size() == b.size());
+        for (size_t i = 0; i < a.size(); ++i) {
+            differing += a[i].surface != b[i].surface || a[i].retro != b[i].retro ||
+                         a[i].diffuse != b[i].diffuse || a[i].pdf != b[i].pdf;
+            ++compared;
+        }
+    }
+    CHECK(compared > 0);
+    CHECK(differing == 0);
+    std::printf("MEASURED: cant_angle 0 in the full GLSL variant vs the same with the cant fixed "
+                "at 0: %ld samples, %ld differing\n",
+                compared, differing);
 }
 
 TEST_CASE("No EGL, a clear error", "[glsl]") {

@@ -1,0 +1,64 @@
+// ra_fit.h: fitting the node, and the MaterialX-style retroreflective GGX baseline, to a table
+// of measured coefficients of retroreflection R_A (io/ra_table.h): `retroprism fit --ra`.
+//
+//  - Node: the inputs the parameter table declares fittable (fit_table(), the RP_FIT lines of
+//    nodes/prismatic_retroreflector_params.def), nothing else: floats and colours (one grey
+//    value) are searched in their declared [lo, hi] (logistic coordinates, on a log scale for
+//    Log inputs), enums and booleans by trying every value (every combination when there are
+//    several; of combinations whose objectives agree within 1e-6 relative, the first in table
+//    order). Inputs not fitted keep the base material's values.
+//  - Baseline ("mrm"): baselines::RetroreflectiveGGX, its GGX roughness in [1e-4, 1] (log), ior
+//    in [1.01, 3] and specular weight in [0, 1]; its Lambert colour is kept (0.8): at
+//    observation angles of a few degrees it adds < 0.3 cd lx^-1 m^-2.
+//  - R_A of an entry: luminance Y of f cos(theta_i) cos(theta_o), at its rotation or the mean
+//    over rotations 0 and 90 degrees, by analysis/photometry.h (ra_at_entry).
+//  - Objective: the mean of (ln m - ln y)^2 over the entries, every entry alike.
+//  - Optimiser (deterministic): Nelder-Mead (util/minimize.h) from the base values and from the
+//    centre and both sides of each input's range, restarted from the best until it improves by
+//    less than 1e-9 relative. The fitted values are then rounded to 6 significant digits and
+//    the report is that of the rounded values, so that a document written from them gives R_A
+//    exactly as reported.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "baselines.h"
+#include "prismatic_retroreflector.h"
+#include "ra_table.h"
+
+namespace retroprism {
+
+struct RaFitReport {
+    std::vector<double> model; // R_A per entry, cd lx^-1 m^-2
+    std::vector<double> error; // (model - measured) / measured per entry
+    double log_rms = 0;        // sqrt(mean((ln model - ln measured)^2))
+    double max_error = 0;      // max |error|
+};
+
+struct RaNodeFit {
+    Params params;                   // the base with the fitted inputs
+    std::vector<std::string> fitted; // the fitted inputs' names, in table order
+    RaFitReport report;
+    int evaluations = 0;
+};
+
+struct RaMrmFit {
+    baselines::RetroreflectiveGGX model;
+    RaFitReport report;
+    int evaluations = 0;
+};
+
+// R_A (Y) of the node built from ra_params(material), and of the baseline, at every entry.
+std::vector<double> ra_node_values(const Params& material, const std::vector<RaEntry>& entries);
+std::vector<double> ra_mrm_values(const baselines::RetroreflectiveGGX& m,
+                                  const std::vector<RaEntry>& entries);
+
+RaFitReport ra_fit_report(const RaMeasurements& t, const std::vector<double>& model);
+
+// InputError "FILE: N rows, fewer than the M inputs fitted (...)" when the table has fewer
+// entries than fitted inputs.
+RaNodeFit fit_ra_node(const RaMeasurements& t, const Params& base = Params());
+RaMrmFit fit_ra_mrm(const RaMeasurements& t);
+
+} // namespace retroprism

@@ -1,0 +1,6 @@
+// libFuzzer target: rpfuzz::check_ra_table (fuzz/fuzz_checks.h) on every input (fuzz_target.h).
+#include "fuzz_target.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, size_t size) {
+    return rpfuzz::run_target(rpfuzz::check_ra_table, data, size);
+}

@@ -1,0 +1,175 @@
+#include "ra_table.h"
+
+#include <algorithm>
+#include <sstream>
+
+#include "error.h"
+#include "parse.h"
+#include "text_file.h"
+
+namespace retroprism {
+
+namespace {
+
+enum Column { kObservation, kEntrance, kRa, kRotation, kPresentation, kColumnCount };
+
+struct Range {
+    double lo, hi;
+    bool openLo, openHi;
+    const char* what;
+};
+
+// The allowed values per column (in ra_columns() order).
+const Range kRanges[kColumnCount] = {
+    {0.0, 5.0, true, false, "an observation angle in (0, 5] degrees"},
+    {-90.0, 90.0, true, true, "an entrance angle in (-90, 90) degrees"},
+    {0.0, 1e300, true, false, "an R_A in cd lx^-1 m^-2 greater than 0"},
+    {-360.0, 360.0, false, false, "a rotation angle in [-360, 360] degrees"},
+    {-180.0, 180.0, false, false, "a presentation angle in [-180, 180] degrees"},
+};
+
+const char* const kForm = "observation_deg,entrance_deg,ra[,rotation_deg][,presentation_deg]";
+
+std::vector<std::string> split_fields(const std::string& line) {
+    std::vector<std::string> out;
+    std::string field;
+    std::istringstream ss(line);
+    while (std::getline(ss, field, ','))
+        out.push_back(trim(field));
+    if (!line.empty() && line.back() == ',') out.push_back("");
+    return out;
+}
+
+bool in_range(double v, const Range& r) {
+    return (r.openLo ? v > r.lo : v >= r.lo) && (r.openHi ? v < r.hi : v <= r.hi);
+}
+
+// The header row: the column of each field (every required one present, none repeated).
+std::vector<int> header_columns(const std::vector<std::string>& fields, const std::string& at) {
+    std::vector<int> cols;
+    const std::vector<std::string>& names = ra_columns();
+    for (size_t k = 0; k < fields.size(); ++k) {
+        const auto it = std::find(names.begin(), names.end(), fields[k]);
+        const std::string col = "column " + std::to_string(k + 1);
+        if (it == names.end())
+            throw InputError(at + ", " + col + ": unknown column \"" + fields[k] +
+                             "\"; expected a header row " + kForm);
+        const int c = int(it - names.begin());
+        if (std::find(cols.begin(), cols.end(), c) != cols.end())
+            throw InputError(at + ", " + col + ": column \"" + fields[k] +
+                             "\" appears twice; expected a header row " + kForm);
+        cols.push_back(c);
+    }
+    for (int c : {kObservation, kEntrance, kRa})
+        if (std::find(cols.begin(), cols.end(), c) == cols.end())
+            throw InputError(at + ": the header row has no column " + names[size_t(c)] +
+                             "; expected " + kForm);
+    return cols;
+}
+
+std::string key_text(const RaEntry& e) {
+    std::ostringstream ss;
+    ss << "observation " << e.observation_deg << ", entrance " << e.entrance_deg << ", rotation "
+       << (e.rotation_deg ? std::to_string(*e.rotation_deg) : std::string("mean of 0 and 90"))
+       << ", presentation " << e.presentation_deg;
+    return ss.str();
+}
+
+bool same_angles(const RaEntry& a, const RaEntry& b) {
+    return a.observation_deg == b.observation_deg && a.entrance_deg == b.entrance_deg &&
+           a.rotation_deg == b.rotation_deg && a.presentation_deg == b.presentation_deg;
+}
+
+RaEntry parse_row(const std::vector<std::string>& fields, const std::vector<int>& cols,
+                  const std::string& at) {
+    const std::vector<std::string>& names = ra_columns();
+    if (fields.size() != cols.size())
+        throw InputError(at + ": " + std::to_string(fields.size()) +
+                         " fields, but the header row " + "has " + std::to_string(cols.size()) +
+                         " columns");
+    RaEntry e;
+    for (size_t k = 0; k < fields.size(); ++k) {
+        const int c = cols[k];
+        const std::string where =
+            at + ", column " + std::to_string(k + 1) + " (" + names[size_t(c)] + ")";
+        if (fields[k].empty() && c == kRotation) continue; // the mean over 0 and 90 degrees
+        const std::optional<double> v = try_parse_number(fields[k]);
+        if (!v)
+            throw InputError(where + ": \"" + fields[k] + "\" is not a number; expected " +
+                             kRanges[c].what);
+        if (!in_range(*v, kRanges[c]))
+            throw InputError(where + ": " + fields[k] + " is out of range; expected " +
+                             kRanges[c].what);
+        switch (c) {
+        case kObservation:
+            e.observation_deg = *v;
+            break;
+        case kEntrance:
+            e.entrance_deg = *v;
+            break;
+        case kRa:
+            e.ra = *v;
+            break;
+        case kRotation:
+            e.rotation_deg = *v;
+            break;
+        default:
+            e.presentation_deg = *v;
+            break;
+        }
+    }
+    return e;
+}
+
+} // namespace
+
+const std::vector<std::string>& ra_columns() {
+    static const std::vector<std::string> v = {"observation_deg", "entrance_deg", "ra",
+                                               "rotation_deg", "presentation_deg"};
+    return v;
+}
+
+RaMeasurements parse_ra_table(std::istream& in, const std::string& name) {
+    RaMeasurements t;
+    t.file = name;
+    std::vector<int> cols;
+    std::string raw;
+    int lineNo = 0;
+    while (std::getline(in, raw)) {
+        ++lineNo;
+        const std::string at = name + ":" + std::to_string(lineNo);
+        if (lineNo == 1 && raw.compare(0, 3, "\xEF\xBB\xBF") == 0) raw.erase(0, 3); // UTF-8 BOM
+        const std::string line = trim(raw);
+        if (line.empty()) continue;
+        if (line[0] == '#') {
+            t.comments.push_back(trim(line.substr(1)));
+            continue;
+        }
+        const std::vector<std::string> fields = split_fields(line);
+        if (cols.empty()) {
+            cols = header_columns(fields, at);
+            continue;
+        }
+        RaEntry e = parse_row(fields, cols, at);
+        e.line = lineNo;
+        for (const RaEntry& prev : t.entries)
+            if (same_angles(prev, e))
+                throw InputError(at + ": a second row for " + key_text(e) + " (the first is line " +
+                                 std::to_string(prev.line) + "); expected one measurement per row");
+        t.entries.push_back(e);
+    }
+    if (t.entries.empty())
+        throw InputError(name + ":" + std::to_string(std::max(lineNo, 1)) +
+                         (cols.empty() ? ": no header row; expected a header row " +
+                                             std::string(kForm) + " and one row per measurement"
+                                       : std::string(": no rows; expected one row per "
+                                                     "measurement after the header row")));
+    return t;
+}
+
+RaMeasurements read_ra_table(const std::string& path) {
+    std::istringstream in(read_text_file(path));
+    return parse_ra_table(in, path);
+}
+
+} // namespace retroprism
