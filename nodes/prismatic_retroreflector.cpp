@@ -184,6 +184,10 @@ double era_averaged_direct(double t) {
     return f64::rp_retro_fraction_averaged_exact(t, 1.0, false);
 }
 
+double metal_hits_averaged_direct(double t) {
+    return f64::rp_metal_hits_paper_direct(t);
+}
+
 double retro_fraction_tir_averaged_direct(double t, double eta) {
     f64::rp_material m{};
     m.prism_reflection = f64::RP_PRISM_TIR;
@@ -346,7 +350,7 @@ PrismaticRetroreflector<Real>::albedo(const vec3& wiWorld, int grid) const {
     typename core<Real>::incident s;
     core<Real>::setup(m_, wi, s);
     // Diffuse, exactly: T_i (1 - E) k_d (1 - F_dr_ext) / (eta^2 (1 - k_d F_dr)).
-    out.diffuse = m_.diffuse_albedo * (m_.weight * s.transI * (Real(1) - s.era));
+    out.diffuse = m_.diffuse_albedo * (m_.weight * s.transI * s.passed);
     // Surface and retro: E[f_k cos_o / pdf_k] over each lobe's sampling map, on a midpoint grid
     // (the map covers the lobe's whole mass; directions below the horizon contribute 0).
     const bool lobeOn[2] = {

@@ -130,6 +130,10 @@ double fdr_internal(double eta);
 // Azimuth-averaged ERA computed exactly (piecewise Gauss-Legendre between the azimuths where
 // the overlap polygon changes form) instead of read from the table; for the table generator.
 double era_averaged_direct(double tanThetaT);
+// Azimuth average over the paper's cube's orientations of the number of faces a ray meets in
+// the prism (sum_k H_k of prism_core.inc, the metallized prisms' substrate term), by piecewise
+// Gauss-Legendre between its kinks; for the table generator.
+double metal_hits_averaged_direct(double tanThetaT);
 // Azimuth average of A R1 R2 R3 for uncoated (TIR) prisms by brute force: a midpoint rule of
 // 2e6 azimuths over one period (slow, ~0.1 s; an independent reference for tests).
 double retro_fraction_tir_averaged_direct(double tanThetaT, double eta);

@@ -403,7 +403,7 @@ void lobe_findings(const sim::StudyResults& s, TemplateValues& tv) {
         tv.text["albedo_paper_" + std::to_string(b)] = worst_str(paper[b]);
         tv.text["albedo_recip_" + std::to_string(b)] = worst_str(recip[b]);
     }
-    std::vector<double> ratio;
+    std::vector<double> ratio, paperRatio;
     size_t di = 0;
     for (double eta : s.grid.etas)
         for (int prism : s.grid.prisms)
@@ -411,11 +411,22 @@ void lobe_findings(const sim::StudyResults& s, TemplateValues& tv) {
                 const ConfigResult& d = s.direct[di++];
                 if (prism != f64::RP_PRISM_METALLIZED) continue;
                 const ConfigResult& r = s.at(theta, s.diffuse_alpha(), eta, prism);
-                if (d.sim.diffuseAlbedo.value > 0)
-                    ratio.push_back(r.v[0].diffuseAlbedo / d.sim.diffuseAlbedo.value);
+                if (!(d.sim.diffuseAlbedo.value > 0)) continue;
+                ratio.push_back(r.v[0].diffuseAlbedo / d.sim.diffuseAlbedo.value);
+                // The same with the paper's substrate term 1 - E in place of the node's.
+                Params p;
+                p.ior = eta;
+                p.prism_reflection = prism;
+                const f64::rp_material m = prepare_material(sanitize(p));
+                const double th = theta * (f64::RP_PI / 180.0);
+                f64::rp_incident inc;
+                f64::rp_incident_lobes(m, f64::vec3(std::sin(th), 0.0, std::cos(th)), inc);
+                if (inc.passed > 0)
+                    paperRatio.push_back(ratio.back() * (1.0 - inc.era) / inc.passed);
             }
     tv.flags["metallized"] = !ratio.empty();
     tv.text["metallized_ratio"] = fmt("%.2f", sim::median_of(ratio));
+    tv.text["metallized_paper_ratio"] = fmt("%.2f", sim::median_of(paperRatio));
     double all = 0, single = 0;
     int n = 0;
     for (const ConfigResult& r : s.results)

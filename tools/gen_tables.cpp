@@ -14,6 +14,7 @@ using namespace retroprism;
 namespace {
 
 const int kEraAvgN = 2049; // nodes over t = tan(theta_t) in [0, sqrt 2]
+const int kHitsN = 513;    // metallized prisms' face hits: nodes over t in [0, sqrt 2]
 const int kTirNt = 129;    // fast tier's table of the uncoated average: nodes over t
 const int kTirNeta = 81;   // and over eta in [1, 3]
 const int kFdrN = 2049;    // F_dr table: nodes over eta in [1, 3]
@@ -44,6 +45,9 @@ int main(int argc, char** argv) {
     std::vector<double> era(kEraAvgN);
     for (int i = 0; i < kEraAvgN; ++i)
         era[i] = era_averaged_direct(kTanMax * i / (kEraAvgN - 1));
+    std::vector<double> hits(kHitsN);
+    for (int i = 0; i < kHitsN; ++i)
+        hits[i] = metal_hits_averaged_direct(kTanMax * i / (kHitsN - 1));
     std::vector<double> tir(size_t(kTirNt) * kTirNeta);
     for (int j = 0; j < kTirNeta; ++j)
         for (int i = 0; i < kTirNt; ++i)
@@ -71,6 +75,15 @@ int main(int argc, char** argv) {
     std::fprintf(f, "// @rp-if era_averaged\n");
     std::fprintf(f, "const int RP_ERA_AVG_N = %d;\n", kEraAvgN);
     write_table(f, "rp_era_avg_table", era);
+    std::fprintf(f, "// @rp-endif\n");
+    std::fprintf(
+        f, "// rp_metal_hits_avg_table: azimuth average of the number of faces a ray meets in the\n"
+           "// paper's cube, sum_k H_k (rp_metal_hits_averaged, piecewise Gauss-Legendre between\n"
+           "// its kinks), at t = RP_ERA_TAN_MAX i / (RP_METAL_HITS_N - 1): the substrate term of\n"
+           "// metallized prisms.\n");
+    std::fprintf(f, "// @rp-if diffuse&prism_metallized&era_averaged\n");
+    std::fprintf(f, "const int RP_METAL_HITS_N = %d;\n", kHitsN);
+    write_table(f, "rp_metal_hits_avg_table", hits);
     std::fprintf(f, "// @rp-endif\n");
     std::fprintf(
         f, "// rp_tir_avg_table: the fast tier's azimuth average of A R1 R2 R3 for uncoated\n"
