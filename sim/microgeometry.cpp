@@ -2,6 +2,7 @@
 #include "microgeometry.h"
 
 #include "cube_corner.h"
+#include "variates.h"
 
 #include "linalg.h"
 #include "parallel.h"
@@ -25,6 +26,7 @@ constexpr double kInvSqrtPi = 0.56418958354775628695;
 constexpr double kSqrtPi = 1.77245385090551602730;
 constexpr double kSqrt2Over3 = 0.81649658092772603273;
 constexpr double kInvSqrt3 = 0.57735026918962576451;
+constexpr double kInvSqrt2 = 0.70710678118654752440;
 constexpr double kSin120 = 0.86602540378443864676;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
@@ -98,6 +100,17 @@ double visible_slope_x(double cosT, double sinT, double u) {
     return x;
 }
 
+// smith_lambda with Lambda from the table of sim/variates.h (relative error below 1e-10), and
+// without the square root and division of a = |w.z| / (alpha |w.xy|) where a > kLambdaCut
+// (Lambda = 0: within 48 degrees of the normal for alpha = 0.1).
+double walk_lambda(const dvec3& w, double alpha) {
+    const double s2 = w.x * w.x + w.y * w.y;
+    double l = 0.0;
+    if (w.z * w.z < (kLambdaCut * kLambdaCut) * (alpha * alpha) * s2)
+        l = beckmann_lambda_table(std::abs(w.z) / (alpha * std::sqrt(s2)));
+    return w.z > 0 ? l : -1.0 - l;
+}
+
 // Heights of the microsurface: uniform in [-1, 1] (any height distribution gives the same
 // Smith microsurface; Heitz et al. 2016, section 4.1).
 double height_cdf(double h) {
@@ -117,7 +130,7 @@ double height_inverse(double c) {
 double next_height(const dvec3& w, double h, double u, double alpha) {
     if (std::abs(w.z) < 1e-12) return h; // grazing: hits at once
     const double c1 = height_cdf(h);
-    const double lambda = smith_lambda(w, alpha);
+    const double lambda = walk_lambda(w, alpha);
     double c;
     if (w.z > 0) {
         if (!(lambda > 0)) return kInf;
@@ -159,18 +172,6 @@ double disk_point(Rng& rng, double& x, double& y) {
     return r2;
 }
 
-// A pair of independent Gaussians of density exp(-s^2) / sqrt(pi) (variance 1/2): Marsaglia's
-// polar method (a uniform point of the unit disk, no trigonometry).
-void gaussian_pair(Rng& rng, double& g1, double& g2) {
-    double x, y, s;
-    do {
-        s = disk_point(rng, x, y);
-    } while (!(s > 0.0));
-    const double f = std::sqrt(-std::log(s) / s);
-    g1 = x * f;
-    g2 = y * f;
-}
-
 // A uniform direction (c, s) = (cos psi, sin psi) of the plane, psi uniform in [0, 2 pi): a
 // uniform point (x, y) of the unit disk by rejection, its angle doubled ((x^2 - y^2, 2 x y) /
 // r^2: psi = 2 atan2(y, x) is uniform mod 2 pi as atan2 is uniform in (-pi, pi]).
@@ -189,7 +190,7 @@ void uniform_rotation(Rng& rng, double& c, double& s) {
 // exactly by rejection from the mixture q(x) = cosT exp(-x^2) (all x) + sinT |x| exp(-x^2)
 // (x < 0 only), of masses cosT sqrt(pi) and sinT / 2: for x < 0, q = p; for x > 0,
 // p / q = (1 - x tanT)_+. The Gaussian component draws from `gauss` (an iid stream of
-// N(0, 1/2)), the other is -sqrt(-log U) (P(|x| > t) = exp(-t^2)). Acceptance is
+// N(0, 1/2)), the other is -sqrt(E), E exponential (P(|x| > t) = exp(-t^2)). Acceptance is
 // mass(p) / mass(q): 1 at normal and grazing views, 0.865 at worst (62.7 degrees); no exp or
 // erfc is evaluated.
 template <class Gauss>
@@ -197,7 +198,7 @@ double visible_slope_x_above(double cosT, double sinT, Rng& rng, Gauss& gauss) {
     const double wGauss = cosT * kSqrtPi;
     const double pGauss = wGauss / (wGauss + 0.5 * sinT);
     for (;;) {
-        if (rng.uniform() >= pGauss) return -std::sqrt(-std::log(rng.uniform_open()));
+        if (rng.uniform() >= pGauss) return -std::sqrt(exponential_variate(rng));
         const double x = gauss();
         if (x <= 0) return x;
         if (rng.uniform() * cosT < cosT - x * sinT) return x;
@@ -209,20 +210,8 @@ double visible_slope_x_above(double cosT, double sinT, Rng& rng, Gauss& gauss) {
 dvec3 sample_visible_normal(const dvec3& w, double alpha, Rng& rng) {
     const dvec3 ws = glm::normalize(dvec3(alpha * w.x, alpha * w.y, w.z));
     const double sinT = std::sqrt(ws.x * ws.x + ws.y * ws.y);
-    // Slope y (and x at normal view): Gaussians of density exp(-s^2) / sqrt(pi), a pair at a
-    // time, the spare kept for the next draw.
-    double spare = 0;
-    bool haveSpare = false;
-    auto gauss = [&]() {
-        if (haveSpare) {
-            haveSpare = false;
-            return spare;
-        }
-        double g;
-        gaussian_pair(rng, g, spare);
-        haveSpare = true;
-        return g;
-    };
+    // Slope y (and x at normal view): Gaussians of density exp(-s^2) / sqrt(pi) (variance 1/2).
+    auto gauss = [&]() { return kInvSqrt2 * normal_variate(rng); };
     const double sy = gauss();
     double sx;
     double cosPhi = 1.0, sinPhi = 0.0;
