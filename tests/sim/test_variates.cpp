@@ -21,11 +21,11 @@ namespace {
 
 // Chi-square of `samples` draws against the CDF `cdf`, over cells with the given inner edges
 // (plus the two unbounded end cells); returns its survival probability.
-double chi2_p(const std::function<double(sim::Rng&)>& draw,
+double chi2_p(const std::function<double(retroprism::Rng&)>& draw,
               const std::function<double(double)>& cdf, const std::vector<double>& edges,
               int samples, std::uint64_t seed, double& chi2) {
     std::vector<double> count(edges.size() + 1, 0.0);
-    sim::Rng rng(seed, 0);
+    retroprism::Rng rng(seed, 0);
     for (int k = 0; k < samples; ++k) {
         const double x = draw(rng);
         count[size_t(std::upper_bound(edges.begin(), edges.end(), x) - edges.begin())] += 1;
@@ -52,7 +52,7 @@ TEST_CASE("Ziggurat variates follow the normal and exponential distributions", "
     for (int i = -45; i <= 45; ++i)
         edges.push_back(0.1 * i);
     double chiNormal = 0;
-    const double pNormal = chi2_p([](sim::Rng& r) { return sim::normal_variate(r); },
+    const double pNormal = chi2_p([](retroprism::Rng& r) { return sim::normal_variate(r); },
                                   [](double x) { return 0.5 * std::erfc(-x / std::sqrt(2.0)); },
                                   edges, samples, 3, chiNormal);
     CHECK(pNormal > 1e-4);
@@ -63,7 +63,7 @@ TEST_CASE("Ziggurat variates follow the normal and exponential distributions", "
         edges.push_back(10.0 + 0.5 * i);
     double chiExp = 0;
     const double pExp =
-        chi2_p([](sim::Rng& r) { return sim::exponential_variate(r); },
+        chi2_p([](retroprism::Rng& r) { return sim::exponential_variate(r); },
                [](double x) { return x > 0 ? -std::expm1(-x) : 0.0; }, edges, samples, 4, chiExp);
     CHECK(pExp > 1e-4);
     std::printf("MEASURED: ziggurat variates, 4e6 draws: normal chi-square %.1f (91 dof, p %.3f), "
