@@ -156,7 +156,7 @@ TEST_CASE("Visible normals match max(0, w.m) D(m), also seen from below the mean
 
 TEST_CASE("Visible slopes follow the closed-form density: chi-square per view", "[sim]") {
     // The sampler of sample_visible_normal (rejection from a Gaussian / Rayleigh mixture for
-    // views from above, the CDF's inversion from below, Gaussians by the polar method) against
+    // views from above, the CDF's inversion from below, Gaussians by the ziggurat) against
     // the closed form: in the frame of the view's azimuth, the standard slopes (x, y) (slopes /
     // alpha) have density exp(-x^2) (cosT - x sinT)_+ exp(-y^2) with (cosT, sinT) the view
     // stretched by alpha, CDF of x: G(x) / G(cot), G(x) = (sinT exp(-x^2) / sqrt(pi)
