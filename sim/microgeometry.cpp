@@ -47,6 +47,7 @@ Sheet sheet_from_params(const Params& raw, int channel) {
     s.era_mode = p.era_mode;
     s.orientation_deg = p.orientation;
     s.cant_deg = p.cant_angle;
+    s.dihedral_arcmin = p.dihedral_error;
     s.kd = p.diffuse_color[size_t(std::clamp(channel, 0, 2))];
     return s;
 }
@@ -282,7 +283,7 @@ Crossing cross_top_surface(const Sheet& sheet, const dvec3& dir, bool from_outsi
 // ---- Cube corner
 // ---------------------------------------------------------------------------------
 
-PrismOutcome trace_prism(const Sheet& sheet, const dvec3& d, Rng& rng) {
+PrismOutcome trace_prism(const Sheet& sheet, const dvec3& d, Rng& rng, dvec3* exit) {
     if (!(d.z < 0)) return kPrismMiss;
     // The orientation psi of vertex 0: uniform (averaged; without trigonometry), or fixed,
     // or one of the matched pair.
@@ -295,9 +296,10 @@ PrismOutcome trace_prism(const Sheet& sheet, const dvec3& d, Rng& rng) {
         c0 = std::cos(psi);
         s0 = std::sin(psi);
     }
-    if (sheet.cant_deg != 0.0)
-        return trace_cube_corner(sheet, canted_cube_corner(sheet.cant_deg, std::atan2(s0, c0)), d,
-                                 rng);
+    if (sheet.cant_deg != 0.0 || sheet.dihedral_arcmin != 0.0)
+        return trace_cube_corner(
+            sheet, cube_corner(sheet.cant_deg, sheet.dihedral_arcmin, std::atan2(s0, c0)), d, rng,
+            exit);
     // Vertex directions v_k at psi + 120 k degrees; b_k = d.e_k, e_k = (sqrt(2/3) v_k, 1/sqrt3).
     const double vx[3] = {c0, -0.5 * c0 - kSin120 * s0, -0.5 * c0 + kSin120 * s0};
     const double vy[3] = {s0, kSin120 * c0 - 0.5 * s0, -kSin120 * c0 - 0.5 * s0};
@@ -349,7 +351,9 @@ PrismOutcome trace_prism(const Sheet& sheet, const dvec3& d, Rng& rng) {
             if (rng.uniform() >= keep) return kPrismAbsorbed;
         }
     }
-    return reflections == 3 ? kPrismRetro : kPrismMiss;
+    if (reflections != 3) return kPrismMiss;
+    if (exit) *exit = -d;
+    return kPrismRetro;
 }
 
 // ---- Paths -------------------------------------------------------------------------------------
@@ -383,10 +387,9 @@ Path trace_path(const Sheet& sheet, const dvec3& wi, Rng& rng) {
     bool visited = false;
     for (int event = 0; event < kMaxEvents; ++event) {
         if (where == kPrisms) {
-            const PrismOutcome o = trace_prism(sheet, d, rng);
+            const PrismOutcome o = trace_prism(sheet, d, rng, &up);
             if (o == kPrismRetro) {
                 ++p.retroreflections;
-                up = -d;
                 where = kUp;
             } else if (o == kPrismAbsorbed) {
                 p.fate = kFateAbsorbedFaces;
