@@ -268,6 +268,13 @@ const std::vector<Row>& rows() {
         out.push_back(node_row<Float>("exact_tir_canted", "exact", all3,
                                       "uncoated prisms canted 10 deg, modes at run time", tirCanted,
                                       tirCanted, 7));
+        // Dihedral errors (5 arcmin, a ring of spots about the retro direction): what the
+        // runtime ring costs when it is used; at 0 the fixed rows above leave its code out.
+        Params dihedral = ideal;
+        dihedral.dihedral_error = 5.0;
+        out.push_back(node_row<Float>("exact_dihedral", "exact", all3,
+                                      "ideal prisms, dihedral error 5 arcmin, modes at run time",
+                                      dihedral, dihedral, 7));
         baselines::LambertT<float> lambert;
         baselines::BeckmannCookTorranceT<float> ct;
         ct.roughness = 0.05f;
