@@ -43,6 +43,8 @@ std::vector<Params> check_materials() {
                 p.orientation = to_float(j * 37.5);
                 // The paper's cube and canted ones, edge- and face-more-parallel.
                 p.cant_angle = j == 0 ? 0.0 : to_float(-34.0 + 17.0 * j);
+                // Perfect cube corners and ones with dihedral errors of 2 to 50 arcmin.
+                p.dihedral_error = j % 2 == 0 ? 0.0 : to_float(2.0 + 6.0 * (k % 9));
                 p.diffuse_color = {to_float(0.9), to_float(0.5 + 0.1 * j), to_float(0.05)};
                 p.retro_color = {1.0, to_float(0.8), to_float(0.1 * j)};
                 p.specular = j == 3 ? 0.0 : to_float(1.0 - 0.2 * j);

@@ -24,8 +24,8 @@ namespace {
                 real(p.weight), vec3(p.diffuse_color[0], p.diffuse_color[1], p.diffuse_color[2]),  \
                 vec3(p.retro_color[0], p.retro_color[1], p.retro_color[2]), real(p.specular),      \
                 real(p.roughness), real(p.ior), p.prism_reflection, real(p.metal_reflectance),     \
-                p.era_mode, real(p.orientation), real(p.cant_angle), p.retro_lobe,                 \
-                p.reciprocal ? 1 : 0, p.fidelity);                                                 \
+                p.era_mode, real(p.orientation), real(p.cant_angle), real(p.dihedral_error),       \
+                p.retro_lobe, p.reciprocal ? 1 : 0, p.fidelity);                                   \
         }                                                                                          \
     };
 
@@ -268,6 +268,13 @@ const std::vector<Row>& rows() {
         out.push_back(node_row<Float>("exact_tir_canted", "exact", all3,
                                       "uncoated prisms canted 10 deg, modes at run time", tirCanted,
                                       tirCanted, 7));
+        // Dihedral errors (5 arcmin, a ring of spots about the retro direction): what the
+        // runtime ring costs when it is used; at 0 the fixed rows above leave its code out.
+        Params dihedral = ideal;
+        dihedral.dihedral_error = 5.0;
+        out.push_back(node_row<Float>("exact_dihedral", "exact", all3,
+                                      "ideal prisms, dihedral error 5 arcmin, modes at run time",
+                                      dihedral, dihedral, 7));
         baselines::LambertT<float> lambert;
         baselines::BeckmannCookTorranceT<float> ct;
         ct.roughness = 0.05f;

@@ -84,19 +84,23 @@ void simulator_errors(const Row& row, const std::vector<SimConfig>& study, Resul
         Core::incident s;
         Core::setup(ref.core_material(), wi, s);
         const int g = 64;
+        // A ring of spots (dihedral errors) adds the ring's angle to the sampling map.
+        const int rings = s.ringRadius > 0 ? PrismaticRetroreflector<double>::kAlbedoRingPoints : 1;
         double energy = 0;
-        for (int a = 0; a < g; ++a)
-            for (int b = 0; b < g; ++b) {
-                const glm::dvec3 wo = Core::lobe_sample(
-                    ref.core_material(), s, wi, f64::RP_LOBE_RETRO, (a + 0.5) / g, (b + 0.5) / g);
-                if (!(wo.z >= f64::RP_MIN_COS)) continue;
-                const double pdf =
-                    Core::lobe_pdf(ref.core_material(), s, wi, wo, f64::RP_LOBE_RETRO);
-                if (!(pdf > 0)) continue;
-                f(wi, wo, got);
-                energy += got[1].x * wo.z / pdf;
-            }
-        energy /= double(g) * g;
+        for (int k = 0; k < rings; ++k)
+            for (int a = 0; a < g; ++a)
+                for (int b = 0; b < g; ++b) {
+                    const glm::dvec3 wo =
+                        Core::lobe_sample(ref.core_material(), s, wi, f64::RP_LOBE_RETRO,
+                                          (a + 0.5) / g, (b + 0.5) / g, (k + 0.5) / rings);
+                    if (!(wo.z >= f64::RP_MIN_COS)) continue;
+                    const double pdf =
+                        Core::lobe_pdf(ref.core_material(), s, wi, wo, f64::RP_LOBE_RETRO);
+                    if (!(pdf > 0)) continue;
+                    f(wi, wo, got);
+                    energy += got[1].x * wo.z / pdf;
+                }
+        energy /= double(g) * g * rings;
         const double energyErr = energy / c.simEnergy - 1;
         e2 += energyErr * energyErr;
         p2 += peakErr * peakErr;
@@ -179,6 +183,7 @@ VariantChoice choose_variant(const Params& given, double maxError) {
         if (v.era_mode >= 0 && v.era_mode != p.era_mode) continue;
         if (v.prism_reflection >= 0 && v.prism_reflection != p.prism_reflection) continue;
         if (!v.canted && p.cant_angle != 0) continue;
+        if (!v.dihedral && p.dihedral_error != 0) continue;
         const int fidelity = v.fidelity >= 0 ? v.fidelity : p.fidelity;
         const double error = fidelity == 1 ? out.fastError : 0.0;
         if (fidelity != p.fidelity && error > maxError) continue;

@@ -24,9 +24,9 @@ const char* const kFidelityConst[] = {"RP_FIDELITY_EXACT", "RP_FIDELITY_FAST"};
 
 const std::set<std::string>& known_features() {
     static const std::set<std::string> names = {
-        "surface",          "retro",          "diffuse",       "era_averaged",
-        "era_matched_pair", "era_oriented",   "prism_ideal",   "prism_tir",
-        "prism_metallized", "fidelity_exact", "fidelity_fast", "canted"};
+        "surface",       "retro",       "diffuse",   "era_averaged",     "era_matched_pair",
+        "era_oriented",  "prism_ideal", "prism_tir", "prism_metallized", "fidelity_exact",
+        "fidelity_fast", "canted",      "dihedral"};
     return names;
 }
 
@@ -238,6 +238,7 @@ std::string entry_point(const Variant& v) {
     if (v.fidelity >= 0)
         fixed += "    fidelity = " + std::string(kFidelityConst[v.fidelity]) + ";\n";
     if (!v.canted) fixed += "    cant_angle = 0.0;\n";
+    if (!v.dihedral) fixed += "    dihedral_error = 0.0;\n";
     // The inputs in table order, as GLSL parameters and as arguments.
     std::string inputs = entry_signature();
     inputs = inputs.substr(0, inputs.find("vec3 wi,"));
@@ -260,7 +261,8 @@ std::string entry_point(const Variant& v) {
            "    rp_make_frame(normal, tangent, fN, fT, fB);\n"
            "    return rp_prepare(weight, diffuse_color, retro_color, specular, roughness, ior,\n"
            "                      prism_reflection, metal_reflectance, era_mode, orientation,\n"
-           "                      cant_angle, retro_lobe, reciprocal ? 1 : 0, fidelity);\n"
+           "                      cant_angle, dihedral_error, retro_lobe, reciprocal ? 1 : 0,\n"
+           "                      fidelity);\n"
            "}\n\n"
            "// The node, evaluated: f (1/sr, without the cosine) per lobe for wi (toward the "
            "light)\n"
@@ -323,7 +325,8 @@ std::string Variant::describe() const {
            " | prism_reflection: " +
            (prism_reflection < 0 ? "runtime" : kPrismNames[prism_reflection]) +
            " | fidelity: " + (fidelity < 0 ? "runtime" : kFidelityNames[fidelity]) +
-           " | cant_angle: " + (canted ? "runtime" : "0");
+           " | cant_angle: " + (canted ? "runtime" : "0") +
+           " | dihedral_error: " + (dihedral ? "runtime" : "0");
 }
 
 std::vector<Variant> standard_variants() {
@@ -356,6 +359,7 @@ std::vector<Variant> standard_variants() {
         v.prism_reflection = prism;
         v.fidelity = 1;
         v.canted = false;
+        v.dihedral = false;
         v.cpp = true;
         v.name = std::string("prismatic_retroreflector_averaged_") + kPrismNames[prism] + "_fast";
         out.push_back(v);
@@ -367,6 +371,7 @@ std::vector<Variant> standard_variants() {
             v.era_mode = era;
             v.prism_reflection = prism;
             v.canted = false;
+            v.dihedral = false;
             v.name = std::string("prismatic_retroreflector_") + kEraNames[era] + "_" +
                      kPrismNames[prism];
             v.cpp = era == 0 && prism < 2;
@@ -423,6 +428,7 @@ std::set<std::string> features(const Variant& v) {
             f.insert(std::string("fidelity_") + kFidelityNames[i]);
     }
     if (v.canted) f.insert("canted");
+    if (v.dihedral) f.insert("dihedral");
     return f;
 }
 

@@ -125,8 +125,8 @@ struct core;
         NS::rp_eval_lobes(m, s, wi, wo, r);                                                        \
     }                                                                                              \
     static vec3 lobe_sample(const material& m, const incident& s, vec3 wi, int lobe, real u1,      \
-                            real u2) {                                                             \
-        return NS::rp_lobe_sample(m, s, wi, lobe, u1, u2);                                         \
+                            real u2, real u3) {                                                    \
+        return NS::rp_lobe_sample(m, s, wi, lobe, u1, u2, u3);                                     \
     }                                                                                              \
     static real lobe_pdf(const material& m, const incident& s, vec3 wi, vec3 wo, int lobe) {       \
         return NS::rp_lobe_pdf(m, s, wi, wo, lobe);                                                \

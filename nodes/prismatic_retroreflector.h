@@ -179,8 +179,10 @@ class PrismaticRetroreflector {
     // u in [0, 1)^3: u.z chooses the lobe, u.x and u.y sample it.
     std::optional<Sample> sample(const vec3& wi, const vec3& u) const;
     // Surface and retro lobes by deterministic quadrature over each lobe's own sampling map
-    // (grid x grid midpoints); the diffuse lobe in closed form.
+    // (grid x grid midpoints; times kAlbedoRingPoints angles on the ring of a retro lobe with
+    // dihedral errors); the diffuse lobe in closed form.
     Albedo albedo(const vec3& wi, int grid = 128) const;
+    static constexpr int kAlbedoRingPoints = 16;
     // Retroreflected fraction E and ERA A (geometry alone) of the mean refracted direction.
     Real retro_fraction(const vec3& wi) const;
 

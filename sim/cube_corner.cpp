@@ -7,7 +7,7 @@
 namespace retroprism {
 namespace sim {
 
-CubeCorner canted_cube_corner(double cantDeg, double psi) {
+CubeCorner cube_corner(double cantDeg, double dihedralArcmin, double psi) {
     const double cant = cantDeg * (3.14159265358979323846 / 180.0);
     const dvec3 a = glm::normalize(dvec3(1.0, 1.0, 1.0));
     const dvec3 u = glm::normalize(dvec3(2.0, -1.0, -1.0));
@@ -16,18 +16,44 @@ CubeCorner canted_cube_corner(double cantDeg, double psi) {
     const dvec3 x = glm::normalize(dvec3(1.0, 0.0, 0.0) - n.x * n);
     const dvec3 y = glm::cross(n, x);
     const double c = std::cos(psi), s = std::sin(psi);
+    // The face normals in the cube's frame. With e_k = (a_k + t 1) / |a_k + t 1|,
+    // e_i.e_j = (2t + 3t^2) / (1 + 2t + 3t^2) = sin(delta) gives 3t^2 + 2t - q = 0,
+    // q = sin(delta) / (1 - sin(delta)).
+    dvec3 normal[3], edge[3];
+    const double sinDelta = std::sin(dihedralArcmin * (3.14159265358979323846 / (180.0 * 60.0)));
+    const double q = sinDelta / (1.0 - sinDelta);
+    const double t = q / (1.0 + std::sqrt(1.0 + 3.0 * q)); // (-2 + sqrt(4 + 12 q)) / 6
+    for (int k = 0; k < 3; ++k) {
+        normal[k] = dvec3(0.0);
+        normal[k][k] = 1.0;
+        if (dihedralArcmin != 0.0) normal[k] = glm::normalize(normal[k] + dvec3(t));
+    }
+    for (int k = 0; k < 3; ++k) {
+        // The edge opposite face k: along the other two faces, into the solid.
+        edge[k] = normal[k];
+        if (dihedralArcmin != 0.0) {
+            edge[k] = glm::normalize(glm::cross(normal[(k + 1) % 3], normal[(k + 2) % 3]));
+            if (glm::dot(edge[k], normal[k]) < 0) edge[k] = -edge[k];
+        }
+    }
+    auto toSheet = [&](const dvec3& w) {
+        const double ex = glm::dot(w, x), ey = glm::dot(w, y);
+        return dvec3(c * ex - s * ey, s * ex + c * ey, glm::dot(w, n));
+    };
     CubeCorner cc;
     for (int k = 0; k < 3; ++k) {
-        dvec3 axis(0.0);
-        axis[k] = 1.0;
-        const double ex = glm::dot(axis, x), ey = glm::dot(axis, y);
-        cc.e[k] = dvec3(c * ex - s * ey, s * ex + c * ey, glm::dot(axis, n));
+        cc.e[k] = toSheet(normal[k]);
+        cc.edge[k] = dihedralArcmin != 0.0 ? toSheet(edge[k]) : cc.e[k];
     }
     return cc;
 }
 
-PrismOutcome trace_cube_corner(const Sheet& sheet, const CubeCorner& cc, const dvec3& d0,
-                               Rng& rng) {
+CubeCorner canted_cube_corner(double cantDeg, double psi) {
+    return cube_corner(cantDeg, 0.0, psi);
+}
+
+PrismOutcome trace_cube_corner(const Sheet& sheet, const CubeCorner& cc, const dvec3& d0, Rng& rng,
+                               dvec3* exit) {
     if (!(d0.z < 0)) return kPrismMiss;
     // Uniform entry point: barycentric weights of the aperture's vertices e_k / e_k.z.
     double u = rng.uniform(), v = rng.uniform();
@@ -35,8 +61,8 @@ PrismOutcome trace_cube_corner(const Sheet& sheet, const CubeCorner& cc, const d
         u = 1.0 - u;
         v = 1.0 - v;
     }
-    dvec3 x = u * cc.e[0] / cc.e[0].z + v * cc.e[1] / cc.e[1].z +
-              std::max(0.0, 1.0 - u - v) * cc.e[2] / cc.e[2].z;
+    dvec3 x = u * cc.edge[0] / cc.edge[0].z + v * cc.edge[1] / cc.edge[1].z +
+              std::max(0.0, 1.0 - u - v) * cc.edge[2] / cc.edge[2].z;
     dvec3 d = d0;
     int reflections = 0;
     while (reflections < 4) {
@@ -68,7 +94,9 @@ PrismOutcome trace_cube_corner(const Sheet& sheet, const CubeCorner& cc, const d
         d += 2.0 * cosK * cc.e[face];
         ++reflections;
     }
-    return reflections == 3 ? kPrismRetro : kPrismMiss;
+    if (reflections != 3) return kPrismMiss;
+    if (exit) *exit = sheet.dihedral_arcmin != 0.0 ? d : -d0;
+    return kPrismRetro;
 }
 
 } // namespace sim

@@ -1,6 +1,8 @@
-// cube_corner.h: canted cube corners in the simulator (MODEL.md section 8): the prism's faces in
-// the sheet's frame, built from the cube's own frame, and the exact trace of a ray through it.
-// The paper's cube (cant 0) is traced by trace_prism itself.
+// cube_corner.h: cube corners other than the paper's in the simulator: canted ones (MODEL.md
+// section 8) and ones whose dihedral angles differ from 90 degrees (docs/dihedral.md): the
+// prism's faces in the sheet's frame, built from the cube's own frame, and the exact trace of a
+// ray through it, face by face. The paper's perfect cube (cant 0, no dihedral error) is traced by
+// trace_prism itself.
 #pragma once
 
 #include "microgeometry.h"
@@ -8,22 +10,35 @@
 namespace retroprism {
 namespace sim {
 
-// A cube corner below the sheet: apex at the origin, face k the plane x.e_k = 0 (e_k unit,
-// mutually perpendicular, e_k.z > 0), aperture the triangle the plane z = 1 cuts from the solid
-// {x.e_k >= 0}, with vertices e_k / e_k.z.
+// A trihedral corner below the sheet: apex at the origin, face k the plane x.e_k = 0 (e_k unit,
+// e_k.z > 0), the solid {x.e_k >= 0}, aperture the triangle the plane z = 1 cuts from it, with
+// vertices edge_k / edge_k.z: edge_k is the unit direction of the solid's edge opposite face k
+// (where the other two faces meet), e_k itself when the faces are mutually perpendicular.
 struct CubeCorner {
     dvec3 e[3];
+    dvec3 edge[3];
 };
 
-// The cube corner of cant `cantDeg` at orientation `psi` (radians): in the cube's frame the faces
-// are x = 0, y = 0, z = 0 and the sheet normal is n = normalize(a cos(cant) + u sin(cant)),
-// a = (1,1,1) / sqrt3, u the unit vector perpendicular to a toward e_1; the sheet's frame has n as
-// +z and the projection of e_1 at azimuth psi.
+// The corner of cant `cantDeg`, dihedral error `dihedralArcmin` and orientation `psi` (radians).
+// In the cube's frame the perfect faces are x = 0, y = 0, z = 0 (normals the unit axes a_k) and
+// the sheet normal is n = normalize(a cos(cant) + u sin(cant)), a = (1,1,1) / sqrt3, u the unit
+// vector perpendicular to a toward e_1; the sheet's frame has n as +z and the projection of e_1
+// at azimuth psi. A dihedral error delta opens each of the three dihedral angles to 90 degrees
+// + delta: every face turns about its edge in the aperture (the axis a_k x a), its normal
+// tilting toward the cube axis, e_k = normalize(a_k + t (1,1,1)) with t such that e_i.e_j =
+// sin(delta) (the interior angle between faces i and j is 180 degrees minus the angle between
+// their inward normals).
+CubeCorner cube_corner(double cantDeg, double dihedralArcmin, double psi);
+
+// The perfect (90-degree) canted corner: cube_corner(cantDeg, 0, psi).
 CubeCorner canted_cube_corner(double cantDeg, double psi);
 
 // A downward ray of direction d (unit, d.z < 0) enters the aperture at a uniform point and is
-// traced face by face with the sheet's face reflectance (as trace_prism).
-PrismOutcome trace_cube_corner(const Sheet& sheet, const CubeCorner& cc, const dvec3& d, Rng& rng);
+// traced face by face with the sheet's face reflectance (as trace_prism). A ray that leaves
+// after one reflection on each face is retroreflected; `exit` (when not null) receives its
+// direction: the traced one with dihedral errors (sheet.dihedral_arcmin != 0), else exactly -d.
+PrismOutcome trace_cube_corner(const Sheet& sheet, const CubeCorner& cc, const dvec3& d, Rng& rng,
+                               dvec3* exit = nullptr);
 
 } // namespace sim
 } // namespace retroprism

@@ -49,6 +49,7 @@ Sheet sheet_from_params(const Params& raw, int channel) {
     s.era_mode = p.era_mode;
     s.orientation_deg = p.orientation;
     s.cant_deg = p.cant_angle;
+    s.dihedral_arcmin = p.dihedral_error;
     s.kd = p.diffuse_color[size_t(std::clamp(channel, 0, 2))];
     return s;
 }
@@ -293,12 +294,13 @@ Crossing cross_top_surface(const Sheet& sheet, const dvec3& dir, bool from_outsi
 // ---- Cube corner
 // ---------------------------------------------------------------------------------
 
-PrismOutcome trace_prism(const Sheet& sheet, const dvec3& d, Rng& rng) {
+PrismOutcome trace_prism(const Sheet& sheet, const dvec3& d, Rng& rng, dvec3* exit) {
     if (!(d.z < 0)) return kPrismMiss;
     // b_k = d.e_k, e_k = (sqrt(2/3) v_k, 1/sqrt3), v_k the vertex directions at psi + 120 k
     // degrees, psi the orientation of vertex 0.
     double b[3];
-    if (sheet.era_mode == f64::RP_ERA_AVERAGED && sheet.cant_deg == 0.0) {
+    if (sheet.era_mode == f64::RP_ERA_AVERAGED && sheet.cant_deg == 0.0 &&
+        sheet.dihedral_arcmin == 0.0) {
         // psi uniform: v_k.d = r cos(chi + 120 k degrees) with chi = psi - azimuth(d) uniform,
         // and chi uniform in [0, 60) degrees gives the same outcomes in distribution (a turn of
         // 120 degrees and the mirror image in the plane through d and the normal each map the
@@ -313,7 +315,7 @@ PrismOutcome trace_prism(const Sheet& sheet, const dvec3& d, Rng& rng) {
         b[2] = along + across + z;
     } else {
         // The orientation: fixed, one of the matched pair, or uniform (a canted cube, whose
-        // only symmetry is its mirror plane).
+        // only symmetry is its mirror plane, or one with dihedral errors).
         double c0, s0;
         if (sheet.era_mode == f64::RP_ERA_AVERAGED) {
             uniform_rotation(rng, c0, s0);
@@ -323,9 +325,10 @@ PrismOutcome trace_prism(const Sheet& sheet, const dvec3& d, Rng& rng) {
             c0 = std::cos(psi);
             s0 = std::sin(psi);
         }
-        if (sheet.cant_deg != 0.0)
-            return trace_cube_corner(sheet, canted_cube_corner(sheet.cant_deg, std::atan2(s0, c0)),
-                                     d, rng);
+        if (sheet.cant_deg != 0.0 || sheet.dihedral_arcmin != 0.0)
+            return trace_cube_corner(
+                sheet, cube_corner(sheet.cant_deg, sheet.dihedral_arcmin, std::atan2(s0, c0)), d,
+                rng, exit);
         const double vx[3] = {c0, -0.5 * c0 - kSin120 * s0, -0.5 * c0 + kSin120 * s0};
         const double vy[3] = {s0, kSin120 * c0 - 0.5 * s0, -kSin120 * c0 - 0.5 * s0};
         for (int k = 0; k < 3; ++k)
@@ -376,7 +379,9 @@ PrismOutcome trace_prism(const Sheet& sheet, const dvec3& d, Rng& rng) {
             if (rng.uniform() >= keep) return kPrismAbsorbed;
         }
     }
-    return reflections == 3 ? kPrismRetro : kPrismMiss;
+    if (reflections != 3) return kPrismMiss;
+    if (exit) *exit = -d;
+    return kPrismRetro;
 }
 
 // ---- Paths -------------------------------------------------------------------------------------
@@ -410,10 +415,9 @@ Path trace_path(const Sheet& sheet, const dvec3& wi, Rng& rng) {
     bool visited = false;
     for (int event = 0; event < kMaxEvents; ++event) {
         if (where == kPrisms) {
-            const PrismOutcome o = trace_prism(sheet, d, rng);
+            const PrismOutcome o = trace_prism(sheet, d, rng, &up);
             if (o == kPrismRetro) {
                 ++p.retroreflections;
-                up = -d;
                 where = kUp;
             } else if (o == kPrismAbsorbed) {
                 p.fate = kFateAbsorbedFaces;

@@ -90,6 +90,7 @@ struct Sheet {
     int era_mode = f64::RP_ERA_AVERAGED;
     double orientation_deg = 0.0; // of one aperture vertex from the tangent (+x)
     double cant_deg = 0.0;        // cant_angle: 0 the paper's cube, else sim/cube_corner.h
+    double dihedral_arcmin = 0.0; // dihedral_error: 0 the perfect cube, else sim/cube_corner.h
     double kd = 0.9;              // substrate albedo, one channel
     bool upward_through_prisms = true;
 };
@@ -132,14 +133,15 @@ struct Crossing {
 Crossing cross_top_surface(const Sheet& sheet, const dvec3& dir, bool from_outside, Rng& rng);
 
 // A cube corner met by a downward ray of direction d (unit, d.z < 0) at a uniform point of its
-// aperture.
+// aperture. A retroreflected ray leaves along -d, or, with dihedral errors, along the direction
+// its three reflections give; `exit` (when not null) receives that direction.
 enum PrismOutcome {
     kPrismRetro,       // three reflections: leaves along -d
     kPrismMiss,        // leaves the aperture after fewer reflections
     kPrismTransmitted, // transmitted through a face (tir)
     kPrismAbsorbed     // absorbed by a face (metallized)
 };
-PrismOutcome trace_prism(const Sheet& sheet, const dvec3& d, Rng& rng);
+PrismOutcome trace_prism(const Sheet& sheet, const dvec3& d, Rng& rng, dvec3* exit = nullptr);
 
 // ---- Paths ----------------------------------------------------------------------------------
 

@@ -88,6 +88,28 @@ std::vector<Corner> parameter_corners() {
                              " prism=" + std::to_string(prism) + " era=" + std::to_string(era),
                          p});
                 }
+    // Dihedral errors (a ring of spots about the retro direction), alone and with a cant and the
+    // anisotropic lobe, at the roughness and ior extremes.
+    for (double roughness : {1e-4, 0.05, 1.0})
+        for (double ior : {1.0, 1.49, 3.0})
+            for (int era : {0, 2}) {
+                Params p;
+                p.roughness = roughness;
+                p.ior = ior;
+                p.era_mode = era;
+                p.orientation = 17.0;
+                p.dihedral_error = era == 0 ? 60.0 : 8.0;
+                p.cant_angle = era == 0 ? 0.0 : -20.0;
+                p.retro_lobe = era == 0 ? 0 : 1;
+                p.diffuse_color = {1.0, 1.0, 1.0};
+                p.retro_color = {1.0, 1.0, 1.0};
+                out.push_back({"roughness=" + std::to_string(roughness) +
+                                   " ior=" + std::to_string(ior) + " era=" + std::to_string(era) +
+                                   " dihedral=" + std::to_string(p.dihedral_error) +
+                                   " cant=" + std::to_string(p.cant_angle) +
+                                   " retro_lobe=" + std::to_string(p.retro_lobe),
+                               p});
+            }
     return out;
 }
 

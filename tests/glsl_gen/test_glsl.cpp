@@ -63,6 +63,8 @@ TEST_CASE("Specialised variants leave out the code they do not use", "[glsl]") {
         CHECK(has("rp_era_avg_table") == averaged);
         CHECK(has("rp_era_averaged_canted") == (v.canted && averaged));
         if (!v.canted) CHECK_FALSE(has("m.canted !="));
+        CHECK(has("rp_ring_gaussian") == (v.dihedral && v.retro));
+        if (!v.dihedral) CHECK_FALSE(has("m.dihedral !="));
         const bool tir = v.prism_reflection < 0 || v.prism_reflection == 1;
         CHECK(has("rp_face_reflectance_tir") == tir);
         CHECK(has("rp_beckmann_lambda_fast") == (v.fidelity != 0));
@@ -125,6 +127,7 @@ TEST_CASE("Each specialised variant computes what the C++ reference computes", "
             if (v.prism_reflection >= 0) q.material.prism_reflection = v.prism_reflection;
             if (v.fidelity >= 0) q.material.fidelity = v.fidelity;
             if (!v.canted) q.material.cant_angle = 0.0;
+            if (!v.dihedral) q.material.dihedral_error = 0.0;
             std::vector<std::array<Vec3d, 2>> pairs;
             for (const DirectionPair& s : q.samples)
                 pairs.push_back({s.wi, s.wo});
@@ -177,19 +180,23 @@ TEST_CASE("Each specialised variant computes what the C++ reference computes", "
                 specialised.size(), "llvmpipe", total, worstAll, leftOutValues, leftOutNonZero);
 }
 
-TEST_CASE("cant_angle 0 in the full variant is the paper's cube's code, bit for bit", "[glsl]") {
-    // The full variant (cant_angle at run time) against the same variant with the cant fixed at
-    // 0 at generation time (the canted code left out): a cant_angle of 0 leaves the paper's
-    // cube's code unchanged.
+TEST_CASE("cant_angle 0 and dihedral_error 0 in the full variant are the paper's cube's code, bit "
+          "for bit",
+          "[glsl]") {
+    // The full variant (cant_angle and dihedral_error at run time) against the same variant with
+    // both fixed at 0 at generation time (the canted and the ring's code left out): a cant_angle
+    // and a dihedral_error of 0 leave the paper's perfect cube's code unchanged.
     const glsl::Variant fullVariant = glsl::standard_variants().front();
     glsl::Variant uncanted = fullVariant;
     uncanted.canted = false;
+    uncanted.dihedral = false;
     gl::Runner full(glsl::generate_library(fullVariant, RP_SOURCE_DIR));
     gl::Runner paperCube(glsl::generate_library(uncanted, RP_SOURCE_DIR));
     long compared = 0, differing = 0;
     for (const Query& q : check_query_set()) {
         Params flat = q.material;
         flat.cant_angle = 0.0;
+        flat.dihedral_error = 0.0;
         std::vector<std::array<Vec3d, 2>> pairs;
         for (const DirectionPair& s : q.samples)
             pairs.push_back({s.wi, s.wo});
@@ -204,8 +211,8 @@ TEST_CASE("cant_angle 0 in the full variant is the paper's cube's code, bit for 
     }
     CHECK(compared > 0);
     CHECK(differing == 0);
-    std::printf("MEASURED: cant_angle 0 in the full GLSL variant vs the same with the cant fixed "
-                "at 0: %ld samples, %ld differing\n",
+    std::printf("MEASURED: cant_angle 0 and dihedral_error 0 in the full GLSL variant vs the same "
+                "with both fixed at 0: %ld samples, %ld differing\n",
                 compared, differing);
 }
 

@@ -400,7 +400,9 @@ Chi2Result run_case(const Chi2Case& cs) {
     const f64::rp_material m = retroprism::prepare_material(sane);
     f64::rp_incident s;
     f64::rp_incident_setup(m, wi, s);
-    const double retroWidth = s.alphaPar; // isotropic lobe: alphaPar == alphaPerp
+    // Isotropic lobe: alphaPar == alphaPerp; a ring of spots (dihedral errors) of scaled radius
+    // ringRadius widens it to about (1 + ringRadius) alphaPar.
+    const double retroWidth = s.alphaPar * (1.0 + s.ringRadius);
 
     int centreKind = cs.kind == kMixture ? (cs.centre == 0 ? kSurface : kRetro) : cs.kind;
     Grid g = centreKind == kSurface ? make_grid(mirror, surfWidth, surfRatio, false)
@@ -427,7 +429,9 @@ Chi2Result run_case(const Chi2Case& cs) {
     } else {
         for (long i = 0; i < kSamples; ++i) {
             const double u1 = rng.uniform(), u2 = rng.uniform();
-            const dvec3 wo = f64::rp_lobe_sample(m, s, wi, cs.kind, u1, u2);
+            // The ring's angle (dihedral errors) is a third number, drawn only where it is used.
+            const double u3 = cs.kind == kRetro && s.ringRadius > 0 ? rng.uniform() : 0.0;
+            const dvec3 wo = f64::rp_lobe_sample(m, s, wi, cs.kind, u1, u2, u3);
             if (!(wo.z > 0)) { // below the horizon: a failed sample
                 ++hist.back();
                 continue;
@@ -451,8 +455,9 @@ Chi2Result run_case(const Chi2Case& cs) {
             gb.coords(-wi, t, p);
             cellsBelow = integrate_grid(gb, pdf, -wi.z, zhi, {{t, p, 6.0 * surfWidth}}, res.quad);
         } else if (k == kRetro) {
-            cellsBelow = integrate_grid(make_grid(wi, inc.alphaPar, 1.0, false), pdf, -2.0, zhi, {},
-                                        res.quad);
+            cellsBelow =
+                integrate_grid(make_grid(wi, inc.alphaPar * (1.0 + inc.ringRadius), 1.0, false),
+                               pdf, -2.0, zhi, {}, res.quad);
         } else {
             cellsBelow = integrate_grid(make_grid(dvec3(0, 0, 1), 1.0, 1.0, true), pdf, -2.0, zhi,
                                         {}, res.quad);
@@ -522,9 +527,23 @@ std::vector<Chi2Result> run_cases(const std::vector<Chi2Case>& cases) {
 }
 
 // ---- The family -------------------------------------------------------------------------------
-enum Group { kGroupSurface, kGroupRetro, kGroupDiffuse, kGroupMixture, kGroupMixtureTir, kGroups };
-const char* const kGroupName[] = {"surface lobe", "retro lobe", "diffuse lobe",
-                                  "mixture (defaults)", "mixture (oriented ERA, tir prisms)"};
+enum Group {
+    kGroupSurface,
+    kGroupRetro,
+    kGroupDiffuse,
+    kGroupMixture,
+    kGroupMixtureTir,
+    kGroupRetroDihedral,
+    kGroupMixtureDihedral,
+    kGroups
+};
+const char* const kGroupName[] = {"surface lobe",
+                                  "retro lobe",
+                                  "diffuse lobe",
+                                  "mixture (defaults)",
+                                  "mixture (oriented ERA, tir prisms)",
+                                  "retro lobe (dihedral error 10 arcmin)",
+                                  "mixture (dihedral error 10 arcmin, cant -10, anisotropic)"};
 
 std::vector<Chi2Case> group_cases(int group) {
     std::vector<Chi2Case> out;
@@ -541,8 +560,25 @@ std::vector<Chi2Case> group_cases(int group) {
                 cs.params.prism_reflection = 1; // tir
                 cs.set += " era=oriented prisms=tir";
             }
-            if (group <= kGroupDiffuse) {
-                cs.kind = Kind(group);
+            // A ring of spots from 10 arcmin dihedral errors: about 4, 0.4 and 0.07 lobe widths
+            // in radius at roughness 0.005, 0.05 and 0.3.
+            if (group == kGroupRetroDihedral || group == kGroupMixtureDihedral) {
+                cs.params.dihedral_error = 10.0;
+                cs.set += " dihedral=10";
+            }
+            if (group == kGroupMixtureDihedral) {
+                cs.params.cant_angle = -10.0;
+                cs.params.retro_lobe = 1; // anisotropic
+                cs.set += " cant=-10 retro_lobe=anisotropic";
+            }
+            if (group <= kGroupDiffuse || group == kGroupRetroDihedral) {
+                cs.kind = group == kGroupRetroDihedral ? kRetro : Kind(group);
+                out.push_back(cs);
+            } else if (group == kGroupMixtureDihedral) {
+                // The retro lobe's own test covers the ring; the mixture's wi-centred grid
+                // resolves it too.
+                cs.kind = kMixture;
+                cs.centre = 1;
                 out.push_back(cs);
             } else {
                 cs.kind = kMixture;
@@ -649,6 +685,14 @@ TEST_CASE("chi2: the node's mixture sampler matches its pdf", "[chi2]") {
 
 TEST_CASE("chi2: the mixture with an oriented ERA and uncoated (tir) prisms", "[chi2]") {
     check_group(kGroupMixtureTir);
+}
+
+TEST_CASE("chi2: the retro lobe with dihedral errors (a ring of spots)", "[chi2]") {
+    check_group(kGroupRetroDihedral);
+}
+
+TEST_CASE("chi2: the mixture with dihedral errors, a cant and the anisotropic lobe", "[chi2]") {
+    check_group(kGroupMixtureDihedral);
 }
 
 TEST_CASE("chi2: family summary", "[chi2]") {

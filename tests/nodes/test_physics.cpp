@@ -985,10 +985,12 @@ TEST_CASE("Metallized substrate term's azimuth averages match a midpoint rule", 
                 worstTable, worstDirect, worstCanted);
 }
 
-TEST_CASE("cant_angle 0 computes what the paper's cube computes, bit for bit", "[physics]") {
-    // The runtime node (cant_angle an input) against the generated C++ variants that leave the
-    // canted code out (glsl_gen's cant-fixed variants, bench/variants.h), in float, for the
-    // same material with cant_angle 0: every lobe equal to the bit.
+TEST_CASE("cant_angle 0 and dihedral_error 0 compute what the paper's cube computes, bit for bit",
+          "[physics]") {
+    // The runtime node (cant_angle and dihedral_error inputs) against the generated C++ variants
+    // that leave the canted and the ring's code out (glsl_gen's fixed variants,
+    // bench/variants.h), in float, for the same material with cant_angle and dihedral_error 0:
+    // every lobe equal to the bit.
     const std::vector<retroprism::bench::Row>& rows = retroprism::bench::rows();
     auto row = [&](const std::string& name) -> const retroprism::bench::Row& {
         for (const auto& r : rows)
@@ -1012,6 +1014,7 @@ TEST_CASE("cant_angle 0 computes what the paper's cube computes, bit for bit", "
             p.retro_lobe = variation % 3 == 2;
             p.orientation = 11.0 * variation;
             p.cant_angle = 0.0;
+            p.dihedral_error = 0.0;
             const auto runtime = row(runtimeName).make_eval(p);
             const auto fixed = fixedRow.make_eval(p);
             for (int k = 0; k < 400; ++k) {
@@ -1030,8 +1033,8 @@ TEST_CASE("cant_angle 0 computes what the paper's cube computes, bit for bit", "
         }
     }
     CHECK(differing == 0);
-    std::printf("MEASURED: cant_angle 0 vs the cant-fixed C++ variants: %ld direction pairs, %ld "
-                "lobes differing\n",
+    std::printf("MEASURED: cant_angle 0 and dihedral_error 0 vs the fixed C++ variants: %ld "
+                "direction pairs, %ld lobes differing\n",
                 compared, differing);
 }
 
