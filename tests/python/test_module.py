@@ -7,6 +7,7 @@ import json
 import os
 import subprocess
 import threading
+import time
 
 import numpy as np
 import pytest
@@ -104,25 +105,30 @@ def test_rows_do_not_depend_on_the_batch():
 
 
 def test_the_gil_is_released_during_a_batch():
-    # albedo of 24 directions at grid 256: about 10 ms of quadrature per direction. While it runs
-    # in a thread, the main thread must run Python; with the GIL held it could not, and the
-    # counter below would only advance before the call took the GIL and after it returned.
+    # albedo of 24 directions at grid 256: about 10 ms of quadrature per direction. The main
+    # thread stamps the time every millisecond while the batch runs in a thread; holding the GIL,
+    # the batch would keep it from running Python between the call's start and end, so no stamp
+    # could fall in the middle half of the call.
     node = retroprism.Node()
     wi = np.tile([0.3, 0.0, 0.95], (24, 1))
-    started = threading.Event()
+    call = []
 
     def work():
-        started.set()
+        call.append(time.perf_counter())
         node.albedo(wi, grid=256)
+        call.append(time.perf_counter())
 
+    stamps = []
     t = threading.Thread(target=work)
     t.start()
-    started.wait()
-    count = 0
     while t.is_alive():
-        count += 1
+        stamps.append(time.perf_counter())
+        time.sleep(0.001)
     t.join()
-    assert count > 10_000, f"the main thread ran only {count} loop iterations during the batch"
+    begin, end = call
+    quarter = (end - begin) / 4
+    inside = [s for s in stamps if begin + quarter < s < end - quarter]
+    assert inside, f"no Python ran during the middle half of a {end - begin:.2f} s batch"
 
 
 def test_sample_agrees_with_eval():
