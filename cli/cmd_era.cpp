@@ -39,20 +39,15 @@ int cmd_era(int argc, const char** argv) {
     double thetaT = parse_number(ap["theta_t"].get<std::string>(), "--theta-t");
     double phi = parse_number(ap["phi"].get<std::string>(), "--phi");
     if (thetaT < 0 || thetaT >= 90) throw InputError("--theta-t: must be in [0, 90) degrees");
-    Params p;
-    p.cant_angle =
+    const double cantDeg =
         parse_number_in(ap["cant"].get<std::string>(), "--cant", cant.min_value, cant.max_value);
-    p.era_mode = enum_index(*find_param("era_mode"), ap["mode"].get<std::string>());
-    if (p.era_mode < 0)
+    const int mode = enum_index(*find_param("era_mode"), ap["mode"].get<std::string>());
+    if (mode < 0)
         throw InputError("--mode " + ap["mode"].get<std::string>() +
                          ": expected averaged, matched_pair or oriented");
-    f64::rp_material m = prepare_material(sanitize(p));
-    m.prism_reflection = f64::RP_PRISM_IDEAL; // geometry alone
-    const double t = thetaT * M_PI / 180.0, ph = phi * M_PI / 180.0;
-    f64::vec3 d(std::sin(t) * std::cos(ph), std::sin(t) * std::sin(ph), -std::cos(t));
-    double a = f64::rp_retro_fraction(m, d);
+    const double a = era(thetaT * M_PI / 180.0, phi * M_PI / 180.0, mode, cantDeg);
     std::printf("theta_t %.6g deg  phi %.6g deg  mode %s  cant %.6g deg  ERA %.9f\n", thetaT, phi,
-                ap["mode"].get<std::string>().c_str(), p.cant_angle, a);
+                ap["mode"].get<std::string>().c_str(), cantDeg, a);
     return 0;
 }
 

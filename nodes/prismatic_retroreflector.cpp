@@ -394,6 +394,17 @@ PrismaticRetroreflector<Real>::albedo(const vec3& wiWorld, int grid) const {
     return out;
 }
 
+double era(double thetaT, double phi, int eraMode, double cantDeg) {
+    Params p;
+    p.era_mode = eraMode;
+    p.cant_angle = cantDeg;
+    f64::rp_material m = prepare_material(sanitize(p));
+    m.prism_reflection = f64::RP_PRISM_IDEAL; // geometry alone
+    const f64::vec3 d(std::sin(thetaT) * std::cos(phi), std::sin(thetaT) * std::sin(phi),
+                      -std::cos(thetaT));
+    return f64::rp_retro_fraction(m, d);
+}
+
 template class PrismaticRetroreflector<float>;
 template class PrismaticRetroreflector<double>;
 

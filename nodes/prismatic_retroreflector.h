@@ -127,6 +127,12 @@ Params sanitize(const Params& p);
 double fdr_external(double eta);
 double fdr_internal(double eta);
 
+// ERA A of MODEL.md section 2 (the geometry alone, no face reflectance) of the inner direction
+// at polar angle thetaT in [0, pi/2) and azimuth phi from one aperture vertex (radians), for
+// the era_mode index eraMode of the parameter table (averaged, matched_pair, oriented), for
+// cube corners of cant cantDeg (the cant_angle input, MODEL.md section 8).
+double era(double thetaT, double phi, int eraMode, double cantDeg = 0.0);
+
 // Azimuth-averaged ERA computed exactly (piecewise Gauss-Legendre between the azimuths where
 // the overlap polygon changes form) instead of read from the table; for the table generator.
 double era_averaged_direct(double tanThetaT);

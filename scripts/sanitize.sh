@@ -15,9 +15,12 @@ flags="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-po
 # Warnings stay errors, except -Wmaybe-uninitialized: with -fsanitize=address GCC 12 reports
 # it falsely inside libstdc++'s <regex> (std::function moved in _NFA::_M_insert_subexpr_begin),
 # which glsl_gen.cpp uses; the normal build (scripts/build.sh) keeps it an error.
+# No Python module here: an instrumented extension cannot load into Debian's uninstrumented
+# python3 (ASan's runtime must come first), and so neither the `python` nor the `install` entry
+# (whose consumer links the instrumented libraries without the runtime) exists in this build.
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRETROPRISM_WERROR=ON \
   -DCMAKE_CXX_FLAGS="$flags -Wno-maybe-uninitialized" -DCMAKE_EXE_LINKER_FLAGS="$flags" \
-  -DCMAKE_SHARED_LINKER_FLAGS="$flags" >/dev/null
+  -DCMAKE_SHARED_LINKER_FLAGS="$flags" -DRETROPRISM_PYTHON=OFF >/dev/null
 ninja -C "$build"
 
 export ASAN_OPTIONS="abort_on_error=1:halt_on_error=1:detect_leaks=1:strict_init_order=1:check_initialization_order=1:detect_stack_use_after_return=1:symbolize=1"

@@ -11,6 +11,7 @@ packages=(
   clang-format universal-ctags libbenchmark-dev
   libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri glslang-tools spirv-tools
   clang libclang-rt-14-dev llvm
+  pybind11-dev python3-dev python3-numpy python3-pytest
 )
 
 # Node.js runs the MaterialX tool of the tests (any Node.js >= 18: Debian's or one present).
