@@ -2570,7 +2570,7 @@ float rp_retro_fraction_averaged_canted_tir(in rp_material m, float t) {
             float start = b.phi[i] + width * float(j);
             for (int q = 0; q < 8; ++q) {
                 // phi = start + width s^2 (3 - 2 s): the substitution of the uncanted average.
-                float s = rp_gl8_x[q];
+                float s = rp_gl8_x_at(q);
                 float phi = start + width * s * s * (float(3.0) - float(2.0) * s);
                 vec3 d = normalize(vec3(t * cos(phi), t * sin(phi), float(-1.0)));
                 float f = rp_era_canted(d, e[0], e[1], e[2]);
@@ -2579,7 +2579,7 @@ float rp_retro_fraction_averaged_canted_tir(in rp_material m, float t) {
                          rp_fresnel_internal(abs(dot(d, e[1])), m.eta) *
                          rp_fresnel_internal(abs(dot(d, e[2])), m.eta);
                 }
-                sum += rp_gl8_w[q] * width * float(6.0) * s * (float(1.0) - s) * f;
+                sum += rp_gl8_w_at(q) * width * float(6.0) * s * (float(1.0) - s) * f;
             }
         }
     }
