@@ -1,6 +1,8 @@
 #include "photometry.h"
 
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace retroprism {
 
@@ -85,6 +87,55 @@ RaTable ra_table(const Params& material, double rotationDeg, const std::vector<d
         t.rgb.push_back(row);
     }
     return t;
+}
+
+RaTable ra_table(const BrdfBatch& f, double rotationDeg, const std::vector<double>& observation,
+                 const std::vector<double>& entrance) {
+    std::vector<std::array<glm::dvec3, 2>> pairs;
+    for (double a : observation)
+        for (double b : entrance) {
+            glm::dvec3 wi, wo;
+            ra_directions(b, a, rotationDeg, wi, wo);
+            pairs.push_back({wi, wo});
+        }
+    const std::vector<glm::dvec3> values = f(pairs);
+    if (values.size() != pairs.size())
+        throw std::runtime_error("ra_table: the BRDF returned " + std::to_string(values.size()) +
+                                 " values for " + std::to_string(pairs.size()) + " directions");
+    RaTable t;
+    t.observation = observation;
+    t.entrance = entrance;
+    t.rotation = rotationDeg;
+    size_t k = 0;
+    for (size_t i = 0; i < observation.size(); ++i) {
+        std::vector<glm::dvec3> row;
+        for (size_t j = 0; j < entrance.size(); ++j, ++k)
+            row.push_back(values[k] * (pairs[k][0].z * pairs[k][1].z));
+        t.rgb.push_back(row);
+    }
+    return t;
+}
+
+RaDeviation ra_deviation(const RaTable& reference, const RaTable& t) {
+    if (reference.observation != t.observation || reference.entrance != t.entrance)
+        throw std::runtime_error("ra_deviation: the tables' angles differ");
+    RaDeviation d;
+    for (size_t i = 0; i < t.observation.size(); ++i) {
+        std::vector<double> row;
+        for (size_t j = 0; j < t.entrance.size(); ++j) {
+            const double r = luminance_709(reference.rgb[i][j]);
+            const double y = luminance_709(t.rgb[i][j]);
+            const double rel = r > 0 ? (y - r) / r : (y == 0 ? 0.0 : INFINITY);
+            row.push_back(rel);
+            if (std::abs(rel) > d.max_abs || (i == 0 && j == 0)) {
+                d.max_abs = std::abs(rel);
+                d.observation = t.observation[i];
+                d.entrance = t.entrance[j];
+            }
+        }
+        d.relative.push_back(row);
+    }
+    return d;
 }
 
 } // namespace retroprism

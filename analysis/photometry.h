@@ -26,6 +26,7 @@
 // The material's normal and tangent inputs are not used: R_A is a property of the flat sample.
 #pragma once
 
+#include <array>
 #include <functional>
 #include <vector>
 
@@ -73,5 +74,25 @@ struct RaTable {
 RaTable ra_table(const Params& material, double rotationDeg,
                  const std::vector<double>& observation = ra_observation_angles(),
                  const std::vector<double>& entrance = ra_entrance_angles());
+
+// A BRDF evaluated in batches (a backend): f(wi, wo) in RGB (1/sr, without the cosine) at each
+// (wi, wo) pair, directions in the node's local frame (normal +z, tangent +x).
+using BrdfBatch =
+    std::function<std::vector<glm::dvec3>(const std::vector<std::array<glm::dvec3, 2>>&)>;
+
+// The R_A table of a BRDF given as a batch, by the angle conventions above.
+RaTable ra_table(const BrdfBatch& f, double rotationDeg,
+                 const std::vector<double>& observation = ra_observation_angles(),
+                 const std::vector<double>& entrance = ra_entrance_angles());
+
+// A table's deviation from a reference table of the same angles, in luminance Y: per entry
+// (y - y_ref) / y_ref, and the largest magnitude and its angles.
+struct RaDeviation {
+    std::vector<std::vector<double>> relative; // [row][column]
+    double max_abs = 0;
+    double observation = 0; // degrees, where max_abs is
+    double entrance = 0;
+};
+RaDeviation ra_deviation(const RaTable& reference, const RaTable& t);
 
 } // namespace retroprism

@@ -72,6 +72,14 @@ class GlBackend final : public Backend {
     Runner runner_;
 };
 
+// The portable nodegraph's GLSL: MaterialX's shader of the query document, generated with the
+// library's genglsl implementation left out, so that MaterialX chooses the nodegraph.
+class PortableRunner final : public gl::MaterialXRunner {
+  public:
+    explicit PortableRunner(const std::string& dataDir)
+        : gl::MaterialXRunner(dataDir, "", "rp_query", "rp_query_bsdf", true) {}
+};
+
 using Factory = std::function<std::unique_ptr<Backend>()>;
 
 const std::vector<std::pair<std::string, Factory>>& registry() {
@@ -86,19 +94,36 @@ const std::vector<std::pair<std::string, Factory>>& registry() {
     return r;
 }
 
+const std::vector<std::pair<std::string, Factory>>& approximations() {
+    static const std::vector<std::pair<std::string, Factory>> r = {
+        {"materialx-portable",
+         [] {
+             return std::make_unique<GlBackend<PortableRunner>>("materialx-portable", data_dir());
+         }},
+    };
+    return r;
+}
+
 json rgb_json(const std::array<double, 3>& v) {
     return json::array({v[0], v[1], v[2]});
+}
+
+std::vector<std::string> names_of(const std::vector<std::pair<std::string, Factory>>& table) {
+    std::vector<std::string> n;
+    for (const auto& [name, make] : table)
+        n.push_back(name);
+    return n;
 }
 
 } // namespace
 
 const std::vector<std::string>& backend_names() {
-    static const std::vector<std::string> names = [] {
-        std::vector<std::string> n;
-        for (const auto& [name, make] : registry())
-            n.push_back(name);
-        return n;
-    }();
+    static const std::vector<std::string> names = names_of(registry());
+    return names;
+}
+
+const std::vector<std::string>& approximation_names() {
+    static const std::vector<std::string> names = names_of(approximations());
     return names;
 }
 
@@ -107,11 +132,13 @@ Backend& backend(const std::string& name) {
     static std::map<std::string, std::unique_ptr<Backend>> made;
     const std::lock_guard<std::mutex> lock(mutex);
     if (auto it = made.find(name); it != made.end()) return *it->second;
-    for (const auto& [n, make] : registry())
-        if (n == name) return *(made[name] = make());
+    for (const auto* table : {&registry(), &approximations()})
+        for (const auto& [n, make] : *table)
+            if (n == name) return *(made[name] = make());
     std::string names;
-    for (const std::string& n : backend_names())
-        names += (names.empty() ? "" : ", ") + n;
+    for (const auto* list : {&backend_names(), &approximation_names()})
+        for (const std::string& n : *list)
+            names += (names.empty() ? "" : ", ") + n;
     throw InputError("--backend " + name + ": unknown backend (backends: " + names + ")");
 }
 

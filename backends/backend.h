@@ -1,6 +1,8 @@
 // backend.h: the backends that evaluate the node, behind one interface and found by name in
 // one registry: cpp-double (the reference), cpp-float, glsl (the generated library on OpenGL)
-// and materialx (the shader real MaterialX generates, on OpenGL).
+// and materialx (the shader real MaterialX generates, on OpenGL), which implement the node
+// exactly; and the approximation materialx-portable (the portable nodegraph, the node's
+// implementation for OSL and MDL, through the GLSL real MaterialX generates of it, on OpenGL).
 #pragma once
 
 #include <memory>
@@ -23,8 +25,12 @@ class Backend {
                                                 const std::vector<DirectionPair>& pairs) = 0;
 };
 
-// The backends' names, the reference first.
+// The exact backends' names, the reference first: what the tolerance contract checks.
 const std::vector<std::string>& backend_names();
+
+// The approximations' names: backends measured by their accuracy (approximation.h), not under
+// the tolerance contract.
+const std::vector<std::string>& approximation_names();
 
 // The backend of that name, made on first use and kept for the process (a GL backend compiles
 // its program once); InputError naming the known backends for any other name.

@@ -68,12 +68,13 @@ glm::dvec3 vec(const Vec3d& v) {
 } // namespace
 
 void generate_mx_shaders(const std::string& dataDir, const std::vector<std::string>& documents,
-                         const std::string& outDir) {
+                         const std::string& outDir, const MxGenerateOptions& options) {
     const fs::path tool = fs::path(dataDir) / "materialx" / "tools" / "mx.cjs";
     if (!fs::exists(fs::path(dataDir) / "materialx" / "tools" / "node_modules" / "@needle-tools"))
         throw GlError("MaterialX: materialx/tools is not installed (run scripts/setup-debian.sh, "
                       "which runs npm ci there)");
-    std::string cmd = "node '" + tool.string() + "' generate";
+    std::string cmd = "node '" + tool.string() + "' generate --targets '" + options.targets + "'";
+    if (options.portable) cmd += " --portable";
     for (const std::string& d : documents)
         cmd += " '" + d + "'";
     cmd += " '" + outDir + "' 2>&1";
@@ -96,9 +97,10 @@ MxShaders read_mx_shaders(const std::string& dir, const std::string& material) {
 
 namespace {
 
-// The shaders of `material` of `document` (empty: the one-node query document).
+// The GLSL shaders of `material` of `document` (empty: the one-node query document), of the
+// portable nodegraph when `portable`.
 MxShaders generated_shaders(const std::string& dataDir, const std::string& document,
-                            const std::string& material) {
+                            const std::string& material, bool portable) {
     const fs::path dir =
         fs::temp_directory_path() / ("retroprism_mx_" + std::to_string(::getpid()));
     fs::create_directories(dir);
@@ -107,7 +109,7 @@ MxShaders generated_shaders(const std::string& dataDir, const std::string& docum
         doc = dir / "rp_query.mtlx";
         std::ofstream(doc) << kDocument;
     }
-    generate_mx_shaders(dataDir, {doc.string()}, dir.string());
+    generate_mx_shaders(dataDir, {doc.string()}, dir.string(), {"glsl", portable});
     MxShaders shaders = read_mx_shaders(dir.string(), material);
     fs::remove_all(dir);
     return shaders;
@@ -116,8 +118,9 @@ MxShaders generated_shaders(const std::string& dataDir, const std::string& docum
 } // namespace
 
 MaterialXRunner::MaterialXRunner(const std::string& sourceDir, const std::string& document,
-                                 const std::string& material, const std::string& node)
-    : MaterialXRunner(generated_shaders(sourceDir, document, material), node) {}
+                                 const std::string& material, const std::string& node,
+                                 bool portable)
+    : MaterialXRunner(generated_shaders(sourceDir, document, material, portable), node) {}
 
 MaterialXRunner::MaterialXRunner(const MxShaders& shaders, const std::string& node)
     : node_(node), vertex_(shaders.vertex), fragment_(shaders.fragment) {

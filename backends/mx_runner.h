@@ -34,13 +34,21 @@ struct MxShaders {
     std::string vertex, fragment;
 };
 
+// What generate_mx_shaders generates: the targets (comma-separated, of glsl, essl, vulkan, msl,
+// osl, mdl), and whether with the portable nodegraph in place of the genglsl implementation
+// (mx.cjs --portable: the library loaded without its genglsl folder).
+struct MxGenerateOptions {
+    std::string targets = "glsl,essl,vulkan,msl,osl,mdl";
+    bool portable = false;
+};
+
 // Generates with one run of MaterialX (`node` must be on the PATH and materialx/tools installed
-// with npm; the error says so otherwise) the GLSL, ESSL and Vulkan shaders of every material of
-// each document into `out_dir`, as MATERIAL.TARGET.vert and .frag (TARGET glsl, essl, vulkan).
-// `data_dir` holds materialx/tools (util/paths.h). GlError with MaterialX's messages when a
-// document fails.
+// with npm; the error says so otherwise) the shaders of every material of each document into
+// `out_dir`: MATERIAL.TARGET.vert and .frag for glsl, essl, vulkan and msl, MATERIAL.osl and
+// MATERIAL.mdl for OSL and MDL. `data_dir` holds materialx/tools (util/paths.h). GlError with
+// MaterialX's messages when a document fails.
 void generate_mx_shaders(const std::string& data_dir, const std::vector<std::string>& documents,
-                         const std::string& out_dir);
+                         const std::string& out_dir, const MxGenerateOptions& options = {});
 // The GLSL pair of `material` in a folder that generate_mx_shaders wrote.
 MxShaders read_mx_shaders(const std::string& dir, const std::string& material);
 
@@ -50,10 +58,11 @@ class MaterialXRunner {
     // materialx/tools installed with npm; the error says so otherwise) and compiles them.
     // `source_dir` is the project root. Without a document, a document of one node with its
     // default inputs is used (material "rp_query", node "rp_query_bsdf"); otherwise `material`
-    // of `document`, whose node is `node`.
+    // of `document`, whose node is `node`. With `portable`, MaterialX's GLSL of the portable
+    // nodegraph instead of the node's genglsl implementation.
     explicit MaterialXRunner(const std::string& source_dir, const std::string& document = "",
                              const std::string& material = "rp_query",
-                             const std::string& node = "rp_query_bsdf");
+                             const std::string& node = "rp_query_bsdf", bool portable = false);
     // Compiles shaders MaterialX has generated (generate_mx_shaders) for a material whose node
     // is `node`.
     MaterialXRunner(const MxShaders& shaders, const std::string& node);

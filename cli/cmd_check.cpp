@@ -1,5 +1,6 @@
 // cmd_check.cpp: `retroprism check`: every backend against the reference under the tolerance
-// contract (backends/check.h), or the adversarial sweep (backends/stress.h).
+// contract (backends/check.h) and every approximation's accuracy (backends/approximation.h, R_A
+// tables by analysis/photometry.h), or the adversarial sweep (backends/stress.h).
 #include <algorithm>
 #include <cstdio>
 #include <string>
@@ -7,18 +8,81 @@
 
 #include <OpenImageIO/argparse.h>
 
+#include "approximation.h"
 #include "check.h"
 #include "commands.h"
 #include "error.h"
+#include "photometry.h"
 #include "stress.h"
 #include "stress_table.h"
 
 namespace retroprism {
 
+namespace {
+
+// The R_A accuracy target of an approximation at every standard entry.
+constexpr double kRaTarget = 0.15;
+
+bool check_exact(const std::vector<std::string>& backends);
+
+// An approximation's R_A table of a material: the backend at the table's direction pairs.
+RaTable backend_ra_table(const std::string& name, const Params& material) {
+    const Params p = ra_params(material);
+    return ra_table([&](const auto& dirs) { return backend_f(name, p, dirs); }, 0.0);
+}
+
+// Prints an approximation's accuracy on the bundled sheetings: the relative L1 error per lobe
+// over the standard direction pairs and the R_A deviation from the reference, the largest and
+// per entry; returns how many sheetings are within kRaTarget at every entry.
+int report_approximation(const std::string& name) {
+    std::printf("\n%s against cpp-double on the bundled sheetings: relative L1 error per lobe "
+                "over the standard direction pairs; R_A (luminance) relative deviation at "
+                "observation 0.2-1.5 x entrance -4-45 deg, rotation 0\n",
+                name.c_str());
+    std::printf("%-24s %9s %9s %9s %9s  %12s %s\n", "sheeting", "surface", "retro", "diffuse", "f",
+                "R_A max dev", "at (obs, entr)");
+    const std::vector<NamedMaterial> sheetings = bundled_sheetings();
+    std::vector<RaDeviation> deviations;
+    int within = 0;
+    for (const NamedMaterial& s : sheetings) {
+        const LobeErrors e = lobe_l1_errors(name, s.params);
+        const RaTable ref = ra_table(s.params, 0.0);
+        const RaDeviation d = ra_deviation(ref, backend_ra_table(name, s.params));
+        std::printf("%-24s %9.4f %9.4f %9.4f %9.4f  %11.1f%% (%.2f, %.0f)\n", s.name.c_str(),
+                    e.surface, e.retro, e.diffuse, e.total, 100 * d.max_abs, d.observation,
+                    d.entrance);
+        std::fflush(stdout);
+        deviations.push_back(d);
+        within += d.max_abs <= kRaTarget;
+    }
+    for (size_t k = 0; k < sheetings.size(); ++k) {
+        const RaDeviation& d = deviations[k];
+        std::printf("\nR_A deviation of %s, %s (%%; rows: observation, columns: entrance)\n",
+                    name.c_str(), sheetings[k].name.c_str());
+        std::printf("%8s", "obs\\ent");
+        for (double b : ra_entrance_angles())
+            std::printf(" %7.0f", b);
+        std::printf("\n");
+        for (size_t i = 0; i < d.relative.size(); ++i) {
+            std::printf("%8.2f", ra_observation_angles()[i]);
+            for (double r : d.relative[i])
+                std::printf(" %+7.1f", 100 * r);
+            std::printf("\n");
+        }
+    }
+    std::printf("\n%s: %d of %zu sheetings within %.0f%% of the reference's R_A at every "
+                "entry\n",
+                name.c_str(), within, sheetings.size(), 100 * kRaTarget);
+    return within;
+}
+
+} // namespace
+
 int cmd_check(int argc, const char** argv) {
     OIIO::ArgParse ap;
     ap.intro("retroprism check: every backend (or --backend NAME) against cpp-double over the "
-             "deterministic query set, under the tolerance contract of backends/check.h")
+             "deterministic query set, under the tolerance contract of backends/check.h; an "
+             "approximation (materialx-portable) by its accuracy on the bundled sheetings")
         .usage("retroprism check [--backend NAME]");
     ap.arg("--backend NAME").help("one backend only (default: all)");
     ap.arg("--stress")
@@ -28,18 +92,33 @@ int cmd_check(int argc, const char** argv) {
     int status = 0;
     if (!parse_command_args(ap, argc, argv, status)) return status;
     std::vector<std::string> backends = backend_names();
+    std::vector<std::string> approximations = approximation_names();
     const std::string only = ap["backend"].get<std::string>();
     if (!only.empty()) {
-        if (std::find(backends.begin(), backends.end(), only) == backends.end())
-            throw InputError("--backend " + only + ": unknown backend");
-        backends = {only};
+        const bool exact = std::count(backends.begin(), backends.end(), only) > 0;
+        const bool approximate = std::count(approximations.begin(), approximations.end(), only) > 0;
+        if (!exact && !approximate) backend(only); // InputError naming the backends
+        backends = exact ? std::vector<std::string>{only} : std::vector<std::string>{};
+        approximations = approximate ? std::vector<std::string>{only} : std::vector<std::string>{};
     }
     if (ap["stress"].get<int>()) {
+        if (backends.empty()) throw InputError("--stress: " + only + " is an approximation");
         StressTable table(stress::coverage(), stdout);
         for (const std::string& b : backends)
             table.add(stress::sweep_backend(b));
         return table.finish() ? 0 : 1;
     }
+    bool all = true;
+    if (!backends.empty()) all = check_exact(backends);
+    for (const std::string& a : approximations)
+        report_approximation(a);
+    return all ? 0 : 1;
+}
+
+namespace {
+
+// The exact backends under the tolerance contract; whether all pass.
+bool check_exact(const std::vector<std::string>& backends) {
     const ToleranceContract contract;
     std::printf("tolerance contract: per value %.0e relative (floor %.0e of the lobe's peak, plus "
                 "%.0f ulps of input sensitivity), at most %.1f%% of samples above it, none above "
@@ -61,7 +140,9 @@ int cmd_check(int argc, const char** argv) {
     }
     for (const CheckReport& r : reports)
         if (r.max_err > 0) std::printf("worst %s: %s\n", r.backend.c_str(), r.worst.c_str());
-    return all ? 0 : 1;
+    return all;
 }
+
+} // namespace
 
 } // namespace retroprism

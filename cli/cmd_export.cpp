@@ -1,5 +1,6 @@
 // cmd_export.cpp: `retroprism export` writes the node's library for use in external pipelines: the
-// MaterialX node library (rp_pbrlib: nodedef + genglsl implementation) and the plain GLSL variants.
+// MaterialX node library (rp_pbrlib: nodedef, genglsl implementation and the portable nodegraph)
+// and the plain GLSL variants.
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -32,7 +33,14 @@ const char* kReadme =
     "  reflection-only BSDF, `bsdf=\"R\"`); `genglsl/` holds its GLSL implementation\n"
     "  (`IM_rp_prismatic_retroreflector_bsdf_genglsl`, function\n"
     "  `mx_rp_prismatic_retroreflector_bsdf`), which includes MaterialX's own\n"
-    "  `libraries/pbrlib/genglsl/lib/` files.\n"
+    "  `libraries/pbrlib/genglsl/lib/` files; `rp_pbrlib_ng.mtlx` its portable implementation,\n"
+    "  the nodegraph `NG_rp_prismatic_retroreflector_bsdf` of MaterialX standard nodes.\n"
+    "  MaterialX chooses, per target, an implementation of that target (GLSL, and through the\n"
+    "  targets that inherit genglsl also ESSL, Vulkan GLSL and MSL: the exact node) and\n"
+    "  otherwise the nodegraph (OSL and MDL: an approximation evaluated at the view direction,\n"
+    "  exact at the retro peak; string inputs such as prism_reflection keep their defaults\n"
+    "  there). Its approximations, accuracy and the inputs it does not honour are described in\n"
+    "  the project's docs/portable.md.\n"
     "- `glsl/`: the node as plain GLSL (4.x, ESSL 3.00, Vulkan GLSL), one file per variant:\n"
     "  `prismatic_retroreflector.glsl` chooses every mode at run time; the others fix lobes,\n"
     "  ERA mode or prism reflection and leave out the code they do not use. Entry point:\n"

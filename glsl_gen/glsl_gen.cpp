@@ -1,5 +1,7 @@
 #include "glsl_gen.h"
 
+#include "portable.h"
+
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -747,7 +749,8 @@ std::vector<std::pair<std::string, std::string>> generate_materialx(const std::s
     return {{"materialx/rp_pbrlib/rp_pbrlib_defs.mtlx", materialx_defs(in)},
             {"materialx/rp_pbrlib/genglsl/rp_pbrlib_genglsl_impl.mtlx", materialx_impl()},
             {"materialx/rp_pbrlib/genglsl/rp_prismatic_retroreflector_bsdf.glsl",
-             glsl + materialx_closure(in)}};
+             glsl + materialx_closure(in)},
+            {"materialx/rp_pbrlib/rp_pbrlib_ng.mtlx", generate_portable_nodegraph()}};
 }
 
 } // namespace retroprism::glsl

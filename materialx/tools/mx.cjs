@@ -3,7 +3,12 @@
 //
 //   node mx.cjs validate DOC.mtlx...            validate documents (with stdlib + rp_pbrlib)
 //   node mx.cjs implementations                 every rp nodedef has a genglsl implementation
-//   node mx.cjs generate DOC.mtlx... OUTDIR     GLSL, ESSL and Vulkan shaders of every material
+//                                               and a nodegraph, and what each target chooses
+//   node mx.cjs generate [--portable] [--targets T,...] DOC.mtlx... OUTDIR
+//       the shaders of every material for the targets T (default: all of glsl, essl, vulkan,
+//       msl, osl, mdl) as MATERIAL.T.vert and .frag (OSL and MDL: MATERIAL.osl, MATERIAL.mdl);
+//       --portable loads the library without its genglsl implementation, so that the GLSL
+//       targets too use the portable nodegraph (how its GLSL is measured on OpenGL).
 //
 // Exit status 0 when everything succeeded; messages name the document and what failed.
 'use strict';
@@ -45,9 +50,10 @@ function listFiles(dir, rel = '') {
 
 // Copies rp_pbrlib into the module's virtual file system (source search path "/") and reads
 // its documents, with source URIs so that implementation files resolve.
-async function loadLibrary(mx) {
+async function loadLibrary(mx, portable) {
   const lib = mx.createDocument();
   for (const rel of listFiles(LIBRARY)) {
+    if (portable && rel.split(path.sep)[0] === 'genglsl') continue;
     const dir = path.posix.join('rp_pbrlib', path.dirname(rel).split(path.sep).join('/'));
     mx.FS_createPath('/', dir, true, true);
     const data = fs.readFileSync(path.join(LIBRARY, rel));
@@ -85,8 +91,31 @@ async function readDocument(mx, file, stdlib, lib) {
   return doc;
 }
 
+// Each target's name, generator and whether it renders (lights bound, vertex and pixel stages).
+function targetTable(mx) {
+  return {
+    glsl: [mx.GlslShaderGenerator, true],
+    essl: [mx.EsslShaderGenerator, true],
+    vulkan: [mx.VkShaderGenerator, true],
+    msl: [mx.MslShaderGenerator, true],
+    osl: [mx.OslShaderGenerator, false],
+    mdl: [mx.MdlShaderGenerator, false],
+  };
+}
+
+// Writes the shaders of one material: a hardware target's two stages, or OSL's or MDL's one.
+function writeShader(shader, base, hw) {
+  if (hw) {
+    fs.writeFileSync(`${base}.vert`, shader.getSourceCode('vertex'));
+    fs.writeFileSync(`${base}.frag`, shader.getSourceCode('pixel'));
+    return `${base}.{vert,frag}`;
+  }
+  fs.writeFileSync(base, shader.getSourceCode('pixel'));
+  return base;
+}
+
 // Writes the shaders of every material of one document for one target; the failures.
-async function generateDocument(mx, file, name, gen, ctx, stdlib, lib, outDir) {
+async function generateDocument(mx, file, name, hw, gen, ctx, stdlib, lib, outDir) {
   let doc;
   try {
     doc = await readDocument(mx, file, stdlib, lib);
@@ -103,10 +132,8 @@ async function generateDocument(mx, file, name, gen, ctx, stdlib, lib, outDir) {
   for (const m of materials) {
     try {
       const shader = gen.generate(m.getName(), m, ctx);
-      const base = path.join(outDir, `${m.getName()}.${name}`);
-      fs.writeFileSync(`${base}.vert`, shader.getSourceCode('vertex'));
-      fs.writeFileSync(`${base}.frag`, shader.getSourceCode('pixel'));
-      console.log(`${file}: ${m.getName()} ${name}: generated ${base}.{vert,frag}`);
+      const written = writeShader(shader, path.join(outDir, `${m.getName()}.${name}`), hw);
+      console.log(`${file}: ${m.getName()} ${name}: generated ${written}`);
     } catch (e) {
       console.log(`${file}: ${m.getName()} ${name}: error: ${message(mx, e)}`);
       failures++;
@@ -115,10 +142,39 @@ async function generateDocument(mx, file, name, gen, ctx, stdlib, lib, outDir) {
   return failures;
 }
 
+// The implementation MaterialX chooses for each target (NodeDef::getImplementation, which follows
+// the targetdefs' inheritance: genmsl and essl inherit genglsl). Every nodedef must have the
+// genglsl implementation for the GLSL family and its nodegraph for OSL and MDL; the failures.
+function implementationChoices(mx, doc, defs) {
+  const expected = { genglsl: 'IM_', essl: 'IM_', genmsl: 'IM_', genosl: 'NG_', genmdl: 'NG_' };
+  let failures = 0;
+  for (const nd of defs) {
+    for (const [target, prefix] of Object.entries(expected)) {
+      const impl = doc.getNodeDef(nd.getName()).getImplementation(target);
+      const name = impl ? impl.getName() : '(none)';
+      const kind = impl ? impl.getCategory() : '';
+      const ok = name.startsWith(prefix);
+      console.log(`${nd.getName()}: target ${target}: ${name} ${kind}${ok ? '' : ' UNEXPECTED'}`);
+      if (!ok) failures++;
+    }
+  }
+  return failures;
+}
+
 async function main() {
-  const [command, ...args] = process.argv.slice(2);
+  const argv = process.argv.slice(2);
+  const command = argv[0];
+  let args = argv.slice(1);
+  const portable = args.includes('--portable');
+  args = args.filter((a) => a !== '--portable');
+  let targetNames = ['glsl', 'essl', 'vulkan', 'msl', 'osl', 'mdl'];
+  const t = args.indexOf('--targets');
+  if (t >= 0) {
+    targetNames = (args[t + 1] || '').split(',');
+    args.splice(t, 2);
+  }
   const mx = await loadMaterialX();
-  const lib = await loadLibrary(mx);
+  const lib = await loadLibrary(mx, portable);
   let failures = 0;
   if (command === 'validate') {
     const { stdlib } = await context(mx, mx.GlslShaderGenerator, false);
@@ -151,6 +207,7 @@ async function main() {
       console.log('rp_pbrlib: no nodedefs');
       failures++;
     }
+    failures += implementationChoices(mx, doc, defs);
   } else if (command === 'generate') {
     const files = args.slice(0, -1);
     const outDir = args[args.length - 1];
@@ -159,17 +216,20 @@ async function main() {
       process.exit(2);
     }
     fs.mkdirSync(outDir, { recursive: true });
-    const targets = [
-      ['glsl', mx.GlslShaderGenerator, true],
-      ['essl', mx.EsslShaderGenerator, true],
-      ['vulkan', mx.VkShaderGenerator, true],
-    ];
-    for (const [name, generator, lights] of targets) {
-      const { gen, ctx, stdlib } = await context(mx, generator, lights);
-      for (const file of files) failures += await generateDocument(mx, file, name, gen, ctx, stdlib, lib, outDir);
+    const table = targetTable(mx);
+    for (const name of targetNames) {
+      if (!table[name]) {
+        console.log(`--targets: unknown target '${name}' (targets: ${Object.keys(table).join(', ')})`);
+        process.exit(2);
+      }
+    }
+    for (const name of targetNames) {
+      const [generator, hw] = table[name];
+      const { gen, ctx, stdlib } = await context(mx, generator, hw);
+      for (const file of files) failures += await generateDocument(mx, file, name, hw, gen, ctx, stdlib, lib, outDir);
     }
   } else {
-    console.log('usage: node mx.cjs validate DOC... | implementations | generate DOC... OUTDIR');
+    console.log('usage: node mx.cjs validate DOC... | implementations | generate [--portable] [--targets T,...] DOC... OUTDIR');
     process.exit(2);
   }
   process.exit(failures === 0 ? 0 : 1);

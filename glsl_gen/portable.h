@@ -1,0 +1,67 @@
+// portable.h: the node's portable implementation, a MaterialX <nodegraph> of standard 1.39 nodes
+// (stdlib and pbrlib) that MaterialX chooses for every target without an implementation of ours
+// (OSL, MDL); GLSL, ESSL, Vulkan GLSL and MSL keep the exact genglsl implementation.
+//
+// The graph sees the view direction V and the normal N only (a BSDF node alone knows the light
+// direction), so every factor of the model is evaluated at the view direction, where it is
+// exact at the retro peak (wi = wo):
+//   surface  dielectric_bsdf, Fresnel of ior, GGX of the Beckmann roughness alpha (equal alpha:
+//            the two NDFs have the same peak, 1 / (pi alpha^2));
+//   retro    generalized_schlick_bsdf with constant Fresnel c_r E(mu_t) T(cos_v)^2 and its normal
+//            set to V: a GGX lobe about the view direction, of width kPortableRetroFit.width
+//            alpha_o / 2 (a reflected direction spreads twice as wide as the half vector), with
+//            alpha_o the model's isotropic width at V and the Beckmann shape fitted by one GGX
+//            lobe (fit_retro_lobe);
+//   diffuse  oren_nayar_diffuse_bsdf (roughness 0: Lambert) of colour
+//            k_d T(cos_v)^2 (1 - E) / (eta^2 (1 - k_d F_dr(eta))).
+// E is the azimuth-averaged ERA of ideal prisms as a polynomial in (sin theta_t, cant_angle)
+// and F_dr(eta) a polynomial in eta, both least-squares fits of the C++ model made when the
+// graph is generated (fit_era, fit_fdr); T is the exact Fresnel transmittance, as nodes.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace retroprism::glsl {
+
+// An input of the node the portable graph does not honour, and why.
+struct PortableException {
+    std::string input;
+    std::string reason;
+};
+// The inputs the graph cannot honour (every other input of the parameter table reaches it).
+const std::vector<PortableException>& portable_exceptions();
+
+// A least-squares polynomial fit: value = sum_ij coef[i][j] u^i v^j with u and v the fit's
+// variables mapped onto [-1, 1] (v absent for a fit of one variable: coef[i] has one entry).
+struct PolyFit {
+    std::vector<std::vector<double>> coef;
+    double max_error = 0; // largest |fit - model| over the fit's grid
+    double rms_error = 0;
+};
+
+// The azimuth-averaged ERA A of ideal prisms over u = 2 sin(theta_t) - 1 and v = cant / 30 deg.
+const PolyFit& fit_era();
+// F_dr(eta), the internal hemispherical-diffuse reflectance, over u = eta - 2 (eta in [1, 3]).
+const PolyFit& fit_fdr();
+
+// One GGX lobe D about V of roughness `width` alpha_o / 2, times `scale`, fitted to the Beckmann
+// direction lobe p_o(theta') = exp(-x) / (pi alpha_o^2 cos^3), x = tan^2 theta' / alpha_o^2,
+// with the smallest largest relative error over x in [0, kRetroFitRange] (the lobe above 1/e of
+// its peak): `scale` / width^2 is its value at the peak relative to p_o's, `scale` its
+// integral relative to p_o's.
+struct RetroLobeFit {
+    double width = 1;
+    double scale = 1;
+    double max_error = 0;
+};
+constexpr double kRetroFitRange = 1.0;
+const RetroLobeFit& fit_retro_lobe();
+
+// The nodegraph document (rp_pbrlib_ng.mtlx) implementing ND_rp_prismatic_retroreflector_bsdf.
+// Throws std::runtime_error when an input of the parameter table neither reaches the graph nor
+// is a listed exception.
+std::string generate_portable_nodegraph();
+
+} // namespace retroprism::glsl
