@@ -344,6 +344,80 @@ const vec4 rp_era_avg_table_v4[513] = vec4[513](
 float rp_era_avg_table_at(int i) {
     return rp_era_avg_table_v4[i >> 2][i & 3];
 }
+// rp_metal_hits_avg_table: azimuth average of the number of faces a ray meets in the
+// paper's cube, sum_k H_k (rp_metal_hits_averaged, piecewise Gauss-Legendre between
+// its kinks), at t = RP_ERA_TAN_MAX i / (RP_METAL_HITS_N - 1): the substrate term of
+// metallized prisms.
+const int RP_METAL_HITS_N = 513;
+const vec4 rp_metal_hits_avg_table_v4[129] = vec4[129](
+    vec4(2.66666667, 2.66665649, 2.66662598, 2.66657511), vec4(2.66650391, 2.66641235, 2.66630046, 2.66616821),
+    vec4(2.66601562, 2.66584269, 2.66564941, 2.66543579), vec4(2.66520182, 2.66494751, 2.66467285, 2.66437785),
+    vec4(2.6640625, 2.66372681, 2.66337077, 2.66299438), vec4(2.66259766, 2.66218058, 2.66174316, 2.6612854),
+    vec4(2.66080729, 2.66030884, 2.65979004, 2.6592509), vec4(2.65869141, 2.65811157, 2.65751139, 2.65689087),
+    vec4(2.65625, 2.65558879, 2.65490723, 2.65420532), vec4(2.65348307, 2.65274048, 2.65197754, 2.65119425),
+    vec4(2.65039062, 2.64956665, 2.64872233, 2.64785767), vec4(2.64697266, 2.6460673, 2.6451416, 2.64419556),
+    vec4(2.64322917, 2.64224243, 2.64123535, 2.64020793), vec4(2.63916016, 2.63809204, 2.63700358, 2.63589478),
+    vec4(2.63476562, 2.63361613, 2.63244629, 2.6312561), vec4(2.63004557, 2.6288147, 2.62756348, 2.62629191),
+    vec4(2.625, 2.62368774, 2.62235514, 2.6210022), vec4(2.61962891, 2.61823527, 2.61682129, 2.61538696),
+    vec4(2.61393229, 2.61245728, 2.61096191, 2.60944621), vec4(2.60791016, 2.60635376, 2.60477702, 2.60317993),
+    vec4(2.6015625, 2.59992472, 2.5982666, 2.59658813), vec4(2.59488932, 2.59317017, 2.59143066, 2.58967082),
+    vec4(2.58789062, 2.58609009, 2.58426921, 2.58242798), vec4(2.58056641, 2.57868449, 2.57678223, 2.57485962),
+    vec4(2.57291667, 2.57095337, 2.56896973, 2.56696574), vec4(2.56494141, 2.56289673, 2.56083171, 2.55874634),
+    vec4(2.55664062, 2.55451457, 2.55236816, 2.55020142), vec4(2.54801432, 2.54580688, 2.5435791, 2.54133097),
+    vec4(2.5390625, 2.53677368, 2.53446452, 2.53213501), vec4(2.52978516, 2.52741496, 2.52502441, 2.52261353),
+    vec4(2.52018229, 2.51773071, 2.51525879, 2.51276652), vec4(2.51025391, 2.50772095, 2.50516764, 2.50259399),
+    vec4(2.5, 2.49718001, 2.49417376, 2.49104363), vec4(2.48781277, 2.48449501, 2.48109989, 2.47763463),
+    vec4(2.47410493, 2.47051548, 2.46687022, 2.46317255), vec4(2.45942543, 2.45563149, 2.45179306, 2.44791227),
+    vec4(2.44399101, 2.44003106, 2.436034, 2.43200134), vec4(2.42793445, 2.4238346, 2.41970299, 2.41554075),
+    vec4(2.41134891, 2.40712848, 2.40288037, 2.39860547), vec4(2.39430461, 2.38997859, 2.38562815, 2.38125401),
+    vec4(2.37685684, 2.3724373, 2.36799601, 2.36353355), vec4(2.3590505, 2.35454738, 2.35002474, 2.34548306),
+    vec4(2.34092282, 2.33634448, 2.33174849, 2.32713528), vec4(2.32250525, 2.31785879, 2.3131963, 2.30851814),
+    vec4(2.30382466, 2.29911621, 2.29439312, 2.28965571), vec4(2.28490429, 2.28013917, 2.27536062, 2.27056895),
+    vec4(2.26576441, 2.26094727, 2.2561178, 2.25127623), vec4(2.24642281, 2.24155779, 2.23668137, 2.23179379),
+    vec4(2.22689527, 2.221986, 2.2170662, 2.21213606), vec4(2.20719578, 2.20224553, 2.19728552, 2.19231591),
+    vec4(2.18733687, 2.18234858, 2.17735121, 2.1723449), vec4(2.16732981, 2.16230611, 2.15727394, 2.15223343),
+    vec4(2.14718475, 2.14212801, 2.13706336, 2.13199094), vec4(2.12691086, 2.12182325, 2.11672824, 2.11162594),
+    vec4(2.10651648, 2.10139997, 2.09627652, 2.09114623), vec4(2.08600922, 2.0808656, 2.07571546, 2.0705589),
+    vec4(2.06539602, 2.06022692, 2.0550517, 2.04987044), vec4(2.04468323, 2.03949017, 2.03429133, 2.02908681),
+    vec4(2.02387669, 2.01866104, 2.01343996, 2.0082135), vec4(2.00298176, 1.99774481, 1.99250272, 1.98725556),
+    vec4(1.9820034, 1.97674632, 1.97148438, 1.96621765), vec4(1.96094619, 1.95567006, 1.95038934, 1.94510408),
+    vec4(1.93981434, 1.93452019, 1.92922168, 1.92391886), vec4(1.9186118, 1.91330055, 1.90798517, 1.9026657),
+    vec4(1.89734221, 1.89230494, 1.8875007, 1.88284469), vec4(1.87830662, 1.87386901, 1.86952003, 1.86525101),
+    vec4(1.86105524, 1.8569273, 1.85286273, 1.84885775), vec4(1.8449091, 1.84101396, 1.83716983, 1.83337448),
+    vec4(1.82962592, 1.82592233, 1.82226209, 1.81864367), vec4(1.81506571, 1.81152691, 1.8080261, 1.80456218),
+    vec4(1.8011341, 1.79774091, 1.79438171, 1.79105563), vec4(1.78776187, 1.78449967, 1.78126831, 1.7780671),
+    vec4(1.77489539, 1.77175255, 1.76863801, 1.76555119), vec4(1.76249154, 1.75945855, 1.75645173, 1.75347058),
+    vec4(1.75051466, 1.74758352, 1.74467674, 1.7417939), vec4(1.73893461, 1.73609849, 1.73328516, 1.73049427),
+    vec4(1.72772547, 1.72497843, 1.72225282, 1.71954832), vec4(1.71686463, 1.71420146, 1.7115585, 1.70893549),
+    vec4(1.70633215, 1.70374821, 1.70118341, 1.69863751), vec4(1.69611025, 1.6936014, 1.69111072, 1.68863798),
+    vec4(1.68618296, 1.68374545, 1.68132522, 1.67892208), vec4(1.67653582, 1.67416624, 1.67181315, 1.66947635),
+    vec4(1.66715566, 1.6648509, 1.66256189, 1.66028845), vec4(1.65803042, 1.65578761, 1.65355988, 1.65134705),
+    vec4(1.64914898, 1.64696549, 1.64479644, 1.64264168), vec4(1.64050106, 1.63837444, 1.63626167, 1.63416262),
+    vec4(1.63207714, 1.63000511, 1.62794638, 1.62590083), vec4(1.62386833, 1.62184875, 1.61984197, 1.61784787),
+    vec4(1.61586631, 1.6138972, 1.61194041, 1.60999581), vec4(1.60806331, 1.60614279, 1.60423414, 1.60233725),
+    vec4(1.60045201, 1.59857832, 1.59671607, 1.59486516), vec4(1.5930255, 1.59119698, 1.5893795, 1.58757296),
+    vec4(1.58577728, 1.58399235, 1.58221809, 1.58045439), vec4(1.57870118, 1.57695836, 1.57522584, 1.57350354),
+    vec4(1.57179136, 1.57008923, 1.56839707, 1.56671478), vec4(1.56504228, 1.5633795, 1.56172635, 1.56008276),
+    vec4(1.55844865, 1.55682394, 1.55520855, 1.55360241), vec4(1.55200545, 1.55041758, 1.54883875, 1.54726887),
+    vec4(1.54570787, 1.54415569, 1.54261225, 1.54107749), vec4(1.53955134, 1.53803372, 1.53652459, 1.53502385),
+    vec4(1.53353147, 1.53204735, 1.53057146, 1.52910371), vec4(1.52764405, 1.52619242, 1.52474876, 1.523313),
+    vec4(1.52188508, 1.52046495, 1.51905254, 1.51764781), vec4(1.51625068, 1.51486111, 1.51347903, 1.5121044),
+    vec4(1.51073715, 1.50937723, 1.50802459, 1.50667917), vec4(1.50534092, 1.50400978, 1.50268571, 1.50136865),
+    vec4(1.50005855, 1.49875536, 1.49745903, 1.49616951), vec4(1.49488675, 1.4936107, 1.49234131, 1.49107854),
+    vec4(1.48982233, 1.48857264, 1.48732942, 1.48609263), vec4(1.48486221, 1.48363813, 1.48242034, 1.48120879),
+    vec4(1.48000344, 1.47880424, 1.47761116, 1.47642414), vec4(1.47524315, 1.47406814, 1.47289907, 1.47173589),
+    vec4(1.47057857, 1.46942707, 1.46828134, 1.46714134), vec4(1.46600704, 1.46487838, 1.46375535, 1.46263788),
+    vec4(1.46152595, 1.46041952, 1.45931854, 1.45822299), vec4(1.45713282, 1.45604799, 1.45496847, 1.45389422),
+    vec4(1.4528252, 1.45176138, 1.45070273, 1.4496492), vec4(1.44860076, 1.44755737, 1.44651901, 1.44548563),
+    vec4(1.44445721, 1.4434337, 1.44241508, 1.4414013), vec4(1.44039234, 1.43938817, 1.43838874, 1.43739404),
+    vec4(1.43640401, 1.43541865, 1.4344379, 1.43346174), vec4(1.43249014, 1.43152307, 1.4305605, 1.42960238),
+    vec4(1.42864871, 1.42769944, 1.42675454, 1.42581398), vec4(1.42487775, 1.42394579, 1.42301809, 1.42209462),
+    vec4(1.42117535, 1.42026024, 1.41934928, 1.41844242), vec4(1.41753965, 1.41664094, 1.41574626, 1.41485558),
+    vec4(1.41396887, 1.4130861, 1.41220726, 1.41133231), vec4(1.41046123, 1.40959398, 1.40873055, 1.40787091),
+    vec4(1.40701502, 0.0, 0.0, 0.0));
+float rp_metal_hits_avg_table_at(int i) {
+    return rp_metal_hits_avg_table_v4[i >> 2][i & 3];
+}
 // rp_tir_avg_table: the fast tier's azimuth average of A R1 R2 R3 for uncoated
 // prisms (rp_retro_fraction_averaged_exact) at t as above with RP_TIR_NT nodes
 // and eta in [1, RP_TIR_ETA_MAX] with RP_TIR_NETA nodes; entry [j RP_TIR_NT + i].
@@ -2025,6 +2099,7 @@ struct rp_material {
     float eta2m1;        // eta^2 - 1, as (eta - 1)(eta + 1)
     float inv_spread;    // 1 / (sqrt2 alpha (eta^2 - 1)), RP_BIG at eta = 1 (retro lobe widths)
     int prism_reflection;
+    float metal_r;  // R_metal
     float metal_r3; // R_metal^3
     int era_mode;
     vec2 vertex1; // aperture vertex directions in the local frame (rotated by orientation)
@@ -2408,6 +2483,13 @@ void rp_sort_breaks(inout rp_breaks b) {
     }
 }
 
+// Adds the end phiEnd and sorts: the pieces are then [b.phi[i], b.phi[i + 1]], i + 1 < b.n.
+void rp_close_breaks(inout rp_breaks b, float phiEnd) {
+    b.phi[b.n] = phiEnd;
+    b.n += 1;
+    rp_sort_breaks(b);
+}
+
 // Gauss-Legendre rule of 8 points on [0, 1] (the 8-point rule of [-1, 1], halved).
 const vec4 rp_gl8_x_v4[2] = vec4[2](
     vec4(0.0198550718, 0.101666761, 0.237233795, 0.408282679), vec4(0.591717321, 0.762766205, 0.898333239, 0.980144928));
@@ -2422,6 +2504,27 @@ float rp_gl8_w_at(int i) {
     // Gauss-Legendre sub-pieces per piece: 4 bring the worst error (eta in [1.05, 3], all
     // theta_t) from 1.1e-5 with one to 5.6e-7 (tests/test_physics.cpp).
     const int RP_TIR_SUBPIECES = 4;
+
+// Node n in [0, 8 RP_TIR_SUBPIECES (b.n - 1)) of the Gauss-Legendre rule over the pieces of the
+// closed breaks b, each in RP_TIR_SUBPIECES equal sub-pieces: its azimuth and weight; with
+// smooth, after phi = start + width s^2 (3 - 2 s), which absorbs a square-root onset (Fresnel
+// reflection at the critical angle) at a sub-piece's ends.
+void rp_break_node(in rp_breaks b, int n, bool smooth, out float phi,
+                         out float weight) {
+    int q = n - 8 * (n / 8);
+    int sub = n / 8;
+    int i = sub / RP_TIR_SUBPIECES;
+    float width = (b.phi[i + 1] - b.phi[i]) / float(RP_TIR_SUBPIECES);
+    float start = b.phi[i] + width * float(sub - i * RP_TIR_SUBPIECES);
+    float s = rp_gl8_x_at(q);
+    if (smooth) {
+        phi = start + width * s * s * (float(3.0) - float(2.0) * s);
+        weight = rp_gl8_w_at(q) * width * float(6.0) * s * (float(1.0) - s);
+    } else {
+        phi = start + width * s;
+        weight = rp_gl8_w_at(q) * width;
+    }
+}
 
 // Azimuth average of the ERA A (tir = false) or of E = A R1 R2 R3 for uncoated prisms
 // (tir = true) at t = tan(theta_t), to within 1e-6 (tests/test_physics.cpp compares it with
@@ -2458,9 +2561,7 @@ float rp_retro_fraction_averaged_exact(float tanThetaT, float eta, bool tir) {
             }
         }
     }
-    b.phi[b.n] = phiEnd;
-    b.n += 1;
-    rp_sort_breaks(b);
+    rp_close_breaks(b, phiEnd);
     float sum = float(0.0);
     for (int i = 0; i + RP_TIR_SUBPIECES < RP_TIR_SUBPIECES * b.n; ++i) {
         // Piece i / RP_TIR_SUBPIECES, split into equal sub-pieces: a Fresnel onset just
@@ -2523,9 +2624,7 @@ float rp_era_averaged_canted(in rp_material m, float t) {
         rp_add_level_breaks(b, a[k], bk[k], m.face_phi[k]);
         rp_add_level_breaks(b, a[k] - float(1.0), bk[k], m.face_phi[k]);
     }
-    b.phi[b.n] = RP_PI;
-    b.n += 1;
-    rp_sort_breaks(b);
+    rp_close_breaks(b, RP_PI);
     float sum = float(0.0);
     for (int i = 0; i + 1 < b.n; ++i) {
         float lo = b.phi[i];
@@ -2567,28 +2666,20 @@ float rp_retro_fraction_averaged_canted_tir(in rp_material m, float t) {
         rp_add_level_breaks(b, m.face_z[k] - cosC * secT, t * m.face_xy[k], m.face_phi[k]);
         rp_add_level_breaks(b, m.face_z[k] + cosC * secT, t * m.face_xy[k], m.face_phi[k]);
     }
-    b.phi[b.n] = RP_PI;
-    b.n += 1;
-    rp_sort_breaks(b);
+    rp_close_breaks(b, RP_PI);
     float sum = float(0.0);
-    for (int i = 0; i + 1 < b.n; ++i) {
-        float width = (b.phi[i + 1] - b.phi[i]) / float(RP_TIR_SUBPIECES);
-        for (int j = 0; j < RP_TIR_SUBPIECES; ++j) {
-            float start = b.phi[i] + width * float(j);
-            for (int q = 0; q < 8; ++q) {
-                // phi = start + width s^2 (3 - 2 s): the substitution of the uncanted average.
-                float s = rp_gl8_x_at(q);
-                float phi = start + width * s * s * (float(3.0) - float(2.0) * s);
-                vec3 d = normalize(vec3(t * cos(phi), t * sin(phi), float(-1.0)));
-                float f = rp_era_canted(d, e[0], e[1], e[2]);
-                if (f > float(0.0)) {
-                    f *= rp_fresnel_internal(abs(dot(d, e[0])), m.eta) *
-                         rp_fresnel_internal(abs(dot(d, e[1])), m.eta) *
-                         rp_fresnel_internal(abs(dot(d, e[2])), m.eta);
-                }
-                sum += rp_gl8_w_at(q) * width * float(6.0) * s * (float(1.0) - s) * f;
-            }
+    for (int n = 0; n < 8 * RP_TIR_SUBPIECES * (b.n - 1); ++n) {
+        float phi;
+        float weight;
+        rp_break_node(b, n, true, phi, weight);
+        vec3 d = normalize(vec3(t * cos(phi), t * sin(phi), float(-1.0)));
+        float f = rp_era_canted(d, e[0], e[1], e[2]);
+        if (f > float(0.0)) {
+            f *= rp_fresnel_internal(abs(dot(d, e[0])), m.eta) *
+                 rp_fresnel_internal(abs(dot(d, e[1])), m.eta) *
+                 rp_fresnel_internal(abs(dot(d, e[2])), m.eta);
         }
+        sum += weight * f;
     }
     return sum / RP_PI;
 }
@@ -2630,6 +2721,129 @@ float rp_retro_fraction(in rp_material m, vec3 d) {
     return rp_retro_fraction_s(m, d, sqrt(d.x * d.x + d.y * d.y));
 }
 
+// ---- Metallized prisms: the light that reaches the substrate --------------------------------
+//
+// A ray entering the aperture meets one, two or three faces: every ray meets a face first (the
+// aperture is the only side of the corner that is not a face), and none twice. Derived here: in
+// barycentric coordinates lambda_k of the aperture T the corner unfolded by its three mirrors is
+// the octahedron sum_k |lambda_k| <= 1, a ray a straight line in it, and the ray meets face k iff
+// the line crosses lambda_k = 0 inside the octahedron. The entry points that do form the
+// parallelogram spanned by T's side lambda_k = 0 and that side's point reflection through O_d
+// (the square |lambda_i| + |lambda_j| <= 1 projected along the ray); integrated over its sweep,
+// its overlap with T is the fraction
+//   H_k = 2 m_k g(s_k) for m_k > 0 (else 0), s_k = max(1 - m_i, 0) + max(1 - m_j, 0),
+//   g(s) = 1 - s / 2 (s <= 1), 1 / (2 s) (s > 1),
+// with m_k = 2 lambda_k(O_d) as in rp_era_canted (the paper's cube: H_k = 8/9 at normal
+// incidence). With P_n the fraction of the aperture whose ray meets n faces, P1 + P2 = 1 - A and
+// P1 + 2 P2 + 3 A = sum_k H_k. A metallized face reflects R and absorbs the rest, and every path
+// that does not retroreflect goes down to the substrate (as in the simulator), so the substrate
+// receives R P1 + R^2 P2, not 1 - A R^3: the metal's losses on those paths are absorbed, not
+// diffused.
+
+// sum_k H_k for the m_k of one prism orientation.
+float rp_face_hits_of_m(vec3 mk) {
+    float hits = float(0.0);
+    for (int k = 0; k < 3; ++k) {
+        if (!(mk[k] > float(0.0))) continue;
+        float s = max(float(1.0) - mk[(k + 1) % 3], float(0.0)) +
+                 max(float(1.0) - mk[(k + 2) % 3], float(0.0));
+        float g = s <= float(1.0) ? float(1.0) - float(0.5) * s : float(0.5) / s;
+        hits += float(2.0) * mk[k] * g;
+    }
+    return hits;
+}
+
+// R P1 + R^2 P2 from A and sum_k H_k (clamped at 0 against rounding).
+float rp_metal_passed(float r, float era, float hits) {
+    float p2 = hits - float(1.0) - float(2.0) * era;
+    float p1 = float(1.0) - era - p2;
+    return max(float(0.0), r * p1 + r * r * p2);
+}
+
+// The substrate fraction of one orientation of the material's prism for the inner direction d.
+float rp_metal_passed_oriented(in rp_material m, vec3 d) {
+    if (!(d.z < float(0.0))) return float(0.0);
+    vec3 mk;
+    if (m.canted != 0) {
+        float r = float(2.0) / d.z;
+        mk = vec3(r * m.face1.z * dot(d, m.face1), r * m.face2.z * dot(d, m.face2),
+                  r * m.face3.z * dot(d, m.face3));
+        return rp_metal_passed(m.metal_r, rp_era_of(m, d), rp_face_hits_of_m(mk));
+    }
+    // The paper's cube: m_k = (2 - 2 p_k) / 3, p_k = sqrt2 (v_k . d_xy) / |d_z|.
+    float q = float(2.0) * RP_SQRT2 / (float(3.0) * abs(d.z));
+    mk = vec3(float(2.0 / 3.0) - q * (m.vertex1.x * d.x + m.vertex1.y * d.y),
+              float(2.0 / 3.0) - q * (m.vertex2.x * d.x + m.vertex2.y * d.y),
+              float(2.0 / 3.0) - q * (m.vertex3.x * d.x + m.vertex3.y * d.y));
+    return rp_metal_passed(m.metal_r, rp_era_of(m, d), rp_face_hits_of_m(mk));
+}
+
+// Azimuth average of sum_k H_k at t = tan(theta_t) for a prism whose faces have e_k.z = faceZ,
+// |e_k.xy| = faceXY and azimuths facePhi, mirror-symmetric about the azimuth 0 (averaged over
+// [0, pi]). m_k(phi) = a_k - b_k cos(phi - psi_k) as in rp_era_averaged_canted; H_k changes form
+// only where some m_k crosses 0 or 1 (s_k = 1 is m_k = 1 while m_i, m_j <= 1, else m_i or m_j = 0,
+// since the m_k sum to 2), so between those azimuths the integrand is analytic and
+// Gauss-Legendre in RP_TIR_SUBPIECES sub-pieces integrates it (tests/nodes/test_physics.cpp
+// measures the error against a midpoint rule). Also generates the paper's cube's table.
+float rp_metal_hits_averaged(vec3 faceZ, vec3 faceXY, vec3 facePhi, float t) {
+    vec3 a = float(2.0) * faceZ * faceZ;
+    vec3 bk = (float(2.0) * t) * faceZ * faceXY;
+    rp_breaks b;
+    b.phi[0] = float(0.0);
+    b.n = 1;
+    for (int k = 0; k < 3; ++k) {
+        rp_add_level_breaks(b, a[k], bk[k], facePhi[k]);
+        rp_add_level_breaks(b, a[k] - float(1.0), bk[k], facePhi[k]);
+    }
+    rp_close_breaks(b, RP_PI);
+    float sum = float(0.0);
+    for (int n = 0; n < 8 * RP_TIR_SUBPIECES * (b.n - 1); ++n) {
+        float phi;
+        float weight;
+        rp_break_node(b, n, false, phi, weight);
+        vec3 mk = a - bk * vec3(cos(phi - facePhi.x), cos(phi - facePhi.y), cos(phi - facePhi.z));
+        sum += weight * rp_face_hits_of_m(mk);
+    }
+    return sum / RP_PI;
+}
+
+// The paper's cube's azimuth average of sum_k H_k at t = tan(theta_t): linear interpolation in
+// the generated table over [0, RP_ERA_TAN_MAX], integrated beyond (theta_t > 54.74 deg, only for
+// ior < 1.23).
+float rp_metal_hits_paper_direct(float tanThetaT) {
+    // e_k.z = 1/sqrt3, |e_k.xy| = sqrt(2/3), at the vertex azimuths.
+    float third = float(2.0) * RP_PI / float(3.0);
+    return rp_metal_hits_averaged(vec3(RP_INV_SQRT3), vec3(RP_SQRT2_3),
+                                  vec3(float(0.0), third, -third), tanThetaT);
+}
+
+float rp_metal_hits_paper(float tanThetaT) {
+    if (!(tanThetaT < RP_ERA_TAN_MAX)) return rp_metal_hits_paper_direct(tanThetaT);
+    float x = max(tanThetaT, float(0.0)) * float(RP_METAL_HITS_N - 1) / RP_ERA_TAN_MAX;
+    int i = min(int(x), RP_METAL_HITS_N - 2);
+    float f = x - float(i);
+    return mix(rp_metal_hits_avg_table_at(i), rp_metal_hits_avg_table_at(i + 1), f);
+}
+
+// The fraction of the light refracted into the sheet (mean direction d, sin(theta_t) = |d.xy|)
+// that metallized prisms pass to the substrate, in the node's ERA mode.
+float rp_metal_passed_s(in rp_material m, vec3 d, float sinThetaT) {
+    if (m.era_mode == RP_ERA_ORIENTED) return rp_metal_passed_oriented(m, d);
+    if (m.era_mode == RP_ERA_MATCHED_PAIR) {
+        vec3 dPair = vec3(-d.x, -d.y, d.z);
+        return float(0.5) * (rp_metal_passed_oriented(m, d) + rp_metal_passed_oriented(m, dPair));
+    }
+    if (m.era_mode == RP_ERA_AVERAGED) {
+        float t = sinThetaT / max(abs(d.z), RP_MIN_COS);
+        if (m.canted != 0) {
+            return rp_metal_passed(m.metal_r, rp_era_averaged_canted(m, t),
+                                   rp_metal_hits_averaged(m.face_z, m.face_xy, m.face_phi, t));
+        }
+        return rp_metal_passed(m.metal_r, rp_era_averaged(t), rp_metal_hits_paper(t));
+    }
+    return float(0.0);
+}
+
 // ---- Material preparation ----------------------------------------------------------------
 
 // F_dr_ext(eta) by linear interpolation in the generated table: the GLSL prelude's
@@ -2664,6 +2878,7 @@ rp_material rp_prepare(float weight, vec3 diffuseColor, vec3 retroColor, float s
     m.eta2m1 = (ior - float(1.0)) * (ior + float(1.0));
     m.inv_spread = m.eta2m1 > float(0.0) ? float(1.0) / (RP_SQRT2 * m.alpha * m.eta2m1) : RP_BIG;
     m.prism_reflection = prismReflection;
+    m.metal_r = metalReflectance;
     m.metal_r3 = metalReflectance * metalReflectance * metalReflectance;
     m.era_mode = eraMode;
     float rot = orientationDeg * (RP_PI / float(180.0));
@@ -2813,6 +3028,8 @@ struct rp_incident {
     float invCosI; // 1 / max(cos theta_i, RP_MIN_COS)
     vec3 dt;      // mu_t, the mean refracted direction inside the sheet (dt.z < 0)
     float era;     // E(mu_t), with face reflectances
+    float passed;  // the fraction of the refracted light that reaches the substrate (1 - E but
+                  // for metallized prisms: rp_metal_passed_s)
     float transI;  // T(cos theta_i) = 1 - F
     float fresI;   // F(cos theta_i)
     vec2 lambdaI; // Lambda(wi) as (numerator, denominator) (rp_lambda_ratio)
@@ -2842,7 +3059,7 @@ void rp_lobe_estimates(in rp_material m, in rp_incident s, out vec3 surface,
     diffuse = vec3(float(0.0));
     surface = vec3(m.specular * s.fresI);
     retro = m.retro_color * (s.era * s.transI * s.transI * s.g1I * s.g1I * s.g1T * s.g1T);
-    diffuse = m.diffuse_albedo * (s.transI * (float(1.0) - s.era));
+    diffuse = m.diffuse_albedo * (s.transI * s.passed);
 }
 
 // The incident state the lobes need (everything but the mixture weights; s.fresI and
@@ -2869,6 +3086,9 @@ void rp_incident_lobes(in rp_material m, vec3 wi, out rp_incident s) {
     s.dt = vec3(-wi.x * m.inv_eta, -wi.y * m.inv_eta, -cosThetaT);
     s.era = float(0.0);
     s.era = rp_retro_fraction_s(m, s.dt, sinThetaI * m.inv_eta);
+    s.passed = float(1.0) - s.era;
+    if (m.prism_reflection == RP_PRISM_METALLIZED)
+        s.passed = rp_metal_passed_s(m, s.dt, sinThetaI * m.inv_eta);
     s.fresI = float(0.0);
     s.transI = rp_fresnel_transmittance(cosThetaI, m.eta);
     s.lobeProb = vec3(float(0.0));
@@ -3047,11 +3267,11 @@ vec3 rp_retro_reciprocal(in rp_material m, vec3 wi, vec3 wo, float factor) {
 }
 
 // The reciprocal form's fraction of light that reaches the substrate: the geometric mean of the
-// fractions passed on the way in (1 - eraI) and out.
-float rp_passed_reciprocal(in rp_material m, float eraI, vec3 wo) {
+// fractions passed on the way in (passedI) and out.
+float rp_passed_reciprocal(in rp_material m, float passedI, vec3 wo) {
     rp_incident so;
     rp_incident_lobes(m, wo, so);
-    return sqrt(max(float(0.0), (float(1.0) - eraI) * (float(1.0) - so.era)));
+    return sqrt(max(float(0.0), passedI * so.passed));
 }
 
 // All three lobes at (wi, wo) given the incident state (wo.z >= RP_MIN_COS), and, when
@@ -3111,10 +3331,11 @@ void rp_eval_lobes_pdf(in rp_material m, in rp_incident s, vec3 wi, vec3 wo,
                 pdf += s.lobeProb.y * rp_retro_density(s, wo, wi);
         }
     }
-    // The light that reaches the substrate: (1 - E(mu_t(wi))) in the paper's form; in the
-    // reciprocal one the geometric mean of the fractions passed on the way in and out.
-    float passed = float(1.0) - s.era;
-    if (m.reciprocal != 0) passed = rp_passed_reciprocal(m, s.era, wo);
+    // The light that reaches the substrate: s.passed (1 - E(mu_t(wi)), for metallized prisms
+    // rp_metal_passed_s) in the paper's form; in the reciprocal one the geometric mean of the
+    // fractions passed on the way in and out.
+    float passed = s.passed;
+    if (m.reciprocal != 0) passed = rp_passed_reciprocal(m, s.passed, wo);
     r.diffuse = m.diffuse_scale * (s.transI * transO * passed);
     if (wantPdf) pdf += s.lobeProb.z * cosThetaO * RP_INV_PI;
     r.surface *= m.weight;
