@@ -239,6 +239,7 @@ f32::rp_material round_material<float>(const f64::rp_material& m) {
     r.eta2m1 = float(m.eta2m1);
     r.inv_spread = float(m.inv_spread);
     r.prism_reflection = m.prism_reflection;
+    r.metal_r = float(m.metal_r);
     r.metal_r3 = float(m.metal_r3);
     r.era_mode = m.era_mode;
     r.vertex1 = f32::vec2(m.vertex1);

@@ -2506,10 +2506,10 @@ float rp_gl8_w_at(int i) {
     const int RP_TIR_SUBPIECES = 4;
 
 // Node n in [0, 8 RP_TIR_SUBPIECES (b.n - 1)) of the Gauss-Legendre rule over the pieces of the
-// closed breaks b, each in RP_TIR_SUBPIECES equal sub-pieces: its azimuth and weight; with
-// smooth, after phi = start + width s^2 (3 - 2 s), which absorbs a square-root onset (Fresnel
+// closed breaks b, each in RP_TIR_SUBPIECES equal sub-pieces: its azimuth and weight; with warped,
+// after phi = start + width s^2 (3 - 2 s), which absorbs a square-root onset (Fresnel
 // reflection at the critical angle) at a sub-piece's ends.
-void rp_break_node(in rp_breaks b, int n, bool smooth, out float phi,
+void rp_break_node(in rp_breaks b, int n, bool warped, out float phi,
                          out float weight) {
     int q = n - 8 * (n / 8);
     int sub = n / 8;
@@ -2517,7 +2517,7 @@ void rp_break_node(in rp_breaks b, int n, bool smooth, out float phi,
     float width = (b.phi[i + 1] - b.phi[i]) / float(RP_TIR_SUBPIECES);
     float start = b.phi[i] + width * float(sub - i * RP_TIR_SUBPIECES);
     float s = rp_gl8_x_at(q);
-    if (smooth) {
+    if (warped) {
         phi = start + width * s * s * (float(3.0) - float(2.0) * s);
         weight = rp_gl8_w_at(q) * width * float(6.0) * s * (float(1.0) - s);
     } else {
