@@ -78,7 +78,7 @@ int main(int argc, char** argv) {
     std::fprintf(f, "// @rp-endif\n");
     std::fprintf(
         f, "// rp_metal_hits_avg_table: azimuth average of the number of faces a ray meets in the\n"
-           "// paper's cube, sum_k H_k (rp_metal_hits_averaged, piecewise Gauss-Legendre between\n"
+           "// paper's cube, sum_k H_k (rp_azimuth_average, piecewise Gauss-Legendre between\n"
            "// its kinks), at t = RP_ERA_TAN_MAX i / (RP_METAL_HITS_N - 1): the substrate term of\n"
            "// metallized prisms.\n");
     std::fprintf(f, "// @rp-if diffuse&prism_metallized&era_averaged\n");

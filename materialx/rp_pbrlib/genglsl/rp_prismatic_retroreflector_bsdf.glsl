@@ -212,10 +212,10 @@ const vec4 rp_era_avg_table_v4[513] = vec4[513](
     vec4(0.134347293, 0.133556116, 0.13276486, 0.131973525), vec4(0.131182112, 0.13039062, 0.129599051, 0.128807404),
     vec4(0.12801568, 0.127223879, 0.126432001, 0.125640046), vec4(0.124848015, 0.124055908, 0.123263725, 0.122471466),
     vec4(0.121679132, 0.120886723, 0.120094238, 0.119301679), vec4(0.118509046, 0.117716338, 0.116923556, 0.1161307),
-    vec4(0.115337771, 0.114581046, 0.11385387, 0.113145643), vec4(0.112452575, 0.111772477, 0.111103869, 0.110445664),
+    vec4(0.115337771, 0.114581046, 0.11385387, 0.113145643), vec4(0.112452575, 0.111772478, 0.111103869, 0.110445664),
     vec4(0.109797018, 0.109157253, 0.108525807, 0.107902205), vec4(0.107286037, 0.106676947, 0.10607462, 0.105478774),
     vec4(0.104889158, 0.104305544, 0.103727723, 0.103155504), vec4(0.102588713, 0.102027187, 0.101470776, 0.100919339),
-    vec4(0.100372746, 0.0998308731, 0.0992936053, 0.0987608338), vec4(0.0982324559, 0.0977083743, 0.0971884967, 0.0966727356),
+    vec4(0.100372746, 0.0998308731, 0.0992936053, 0.0987608339), vec4(0.0982324559, 0.0977083743, 0.0971884967, 0.0966727356),
     vec4(0.0961610075, 0.0956532329, 0.0951493361, 0.0946492443), vec4(0.0941528882, 0.0936602012, 0.0931711193, 0.0926855813),
     vec4(0.0922035281, 0.0917249028, 0.0912496507, 0.0907777191), vec4(0.0903090568, 0.0898436146, 0.089381345, 0.0889222019),
     vec4(0.0884661405, 0.0880131177, 0.0875630916, 0.0871160215), vec4(0.0866718679, 0.0862305925, 0.0857921579, 0.085356528),
@@ -334,18 +334,18 @@ const vec4 rp_era_avg_table_v4[513] = vec4[513](
     vec4(1.48045682e-05, 1.41877803e-05, 1.35886042e-05, 1.30067708e-05), vec4(1.24420118e-05, 1.18940594e-05, 1.13626464e-05, 1.08475063e-05),
     vec4(1.03483733e-05, 9.86498211e-06, 9.39706819e-06, 8.94436754e-06), vec4(8.50661682e-06, 8.08355332e-06, 7.67491495e-06, 7.28044024e-06),
     vec4(6.89986834e-06, 6.53293901e-06, 6.17939265e-06, 5.83897025e-06), vec4(5.51141342e-06, 5.19646439e-06, 4.89386598e-06, 4.60336164e-06),
-    vec4(4.3246954e-06, 4.05761192e-06, 3.80185642e-06, 3.55717477e-06), vec4(3.32331341e-06, 3.10001936e-06, 2.88704027e-06, 2.68412436e-06),
+    vec4(4.3246954e-06, 4.05761191e-06, 3.80185642e-06, 3.55717477e-06), vec4(3.32331341e-06, 3.10001936e-06, 2.88704027e-06, 2.68412436e-06),
     vec4(2.49102044e-06, 2.30747791e-06, 2.13324677e-06, 1.96807758e-06), vec4(1.81172151e-06, 1.66393029e-06, 1.52445624e-06, 1.39305225e-06),
-    vec4(1.2694718e-06, 1.15346892e-06, 1.04479824e-06, 9.43214947e-07), vec4(8.48474794e-07, 7.60334106e-07, 6.78549774e-07, 6.02879251e-07),
+    vec4(1.2694718e-06, 1.15346892e-06, 1.04479824e-06, 9.43214946e-07), vec4(8.48474794e-07, 7.60334106e-07, 6.78549774e-07, 6.0287925e-07),
     vec4(5.33080551e-07, 4.68912253e-07, 4.10133489e-07, 3.56503952e-07), vec4(3.07783888e-07, 2.63734099e-07, 2.24115937e-07, 1.88691306e-07),
-    vec4(1.57222656e-07, 1.29472988e-07, 1.05205845e-07, 8.41853148e-08), vec4(6.61760284e-08, 5.09431563e-08, 3.82524081e-08, 2.78700309e-08),
-    vec4(1.95628074e-08, 1.30980544e-08, 8.24362113e-09, 4.76788798e-09), vec4(2.43976454e-09, 1.02868823e-09, 3.04622663e-10, 3.80561275e-11),
+    vec4(1.57222656e-07, 1.29472988e-07, 1.05205845e-07, 8.41853147e-08), vec4(6.61760284e-08, 5.09431563e-08, 3.8252408e-08, 2.7870031e-08),
+    vec4(1.95628073e-08, 1.30980544e-08, 8.24362114e-09, 4.76788795e-09), vec4(2.43976449e-09, 1.02868813e-09, 3.04622716e-10, 3.8056166e-11),
     vec4(0.0, 0.0, 0.0, 0.0));
 float rp_era_avg_table_at(int i) {
     return rp_era_avg_table_v4[i >> 2][i & 3];
 }
 // rp_metal_hits_avg_table: azimuth average of the number of faces a ray meets in the
-// paper's cube, sum_k H_k (rp_metal_hits_averaged, piecewise Gauss-Legendre between
+// paper's cube, sum_k H_k (rp_azimuth_average, piecewise Gauss-Legendre between
 // its kinks), at t = RP_ERA_TAN_MAX i / (RP_METAL_HITS_N - 1): the substrate term of
 // metallized prisms.
 const int RP_METAL_HITS_N = 513;
@@ -2451,276 +2451,6 @@ float rp_retro_fraction_tir_table(float tanThetaT, float eta) {
     return mix(r0, r1, fy);
 }
 
-// Most azimuths at which an azimuth average's integrand can change form over the range
-// integrated: 3 faces x 4 levels x 2 signs, plus the two ends.
-const int RP_TIR_MAX_BREAKS = 26;
-
-// The break points of an azimuth integral, in (0, end) until sorted.
-struct rp_breaks {
-    float phi[RP_TIR_MAX_BREAKS];
-    int n;
-};
-
-// Adds the azimuth phi, taken modulo 2 pi, when it falls in (0, phiEnd) and there is room.
-void rp_add_break(inout rp_breaks b, float phi, float phiEnd) {
-    phi = phi - float(2.0) * RP_PI * floor(phi / (float(2.0) * RP_PI));
-    if (phi > float(0.0) && phi < phiEnd && b.n < RP_TIR_MAX_BREAKS - 1) {
-        b.phi[b.n] = phi;
-        b.n += 1;
-    }
-}
-
-// Insertion sort of the (few) break points.
-void rp_sort_breaks(inout rp_breaks b) {
-    for (int i = 1; i < b.n; ++i) {
-        float key = b.phi[i];
-        int j = i - 1;
-        while (j >= 0 && b.phi[j] > key) {
-            b.phi[j + 1] = b.phi[j];
-            j -= 1;
-        }
-        b.phi[j + 1] = key;
-    }
-}
-
-// Adds the end phiEnd and sorts: the pieces are then [b.phi[i], b.phi[i + 1]], i + 1 < b.n.
-void rp_close_breaks(inout rp_breaks b, float phiEnd) {
-    b.phi[b.n] = phiEnd;
-    b.n += 1;
-    rp_sort_breaks(b);
-}
-
-// Gauss-Legendre rule of 8 points on [0, 1] (the 8-point rule of [-1, 1], halved).
-const vec4 rp_gl8_x_v4[2] = vec4[2](
-    vec4(0.0198550718, 0.101666761, 0.237233795, 0.408282679), vec4(0.591717321, 0.762766205, 0.898333239, 0.980144928));
-float rp_gl8_x_at(int i) {
-    return rp_gl8_x_v4[i >> 2][i & 3];
-} const vec4 rp_gl8_w_v4[2] = vec4[2](
-    vec4(0.0506142681, 0.111190517, 0.156853323, 0.181341892), vec4(0.181341892, 0.156853323, 0.111190517, 0.0506142681));
-float rp_gl8_w_at(int i) {
-    return rp_gl8_w_v4[i >> 2][i & 3];
-}
-
-    // Gauss-Legendre sub-pieces per piece: 4 bring the worst error (eta in [1.05, 3], all
-    // theta_t) from 1.1e-5 with one to 5.6e-7 (tests/test_physics.cpp).
-    const int RP_TIR_SUBPIECES = 4;
-
-// Node n in [0, 8 RP_TIR_SUBPIECES (b.n - 1)) of the Gauss-Legendre rule over the pieces of the
-// closed breaks b, each in RP_TIR_SUBPIECES equal sub-pieces: its azimuth and weight; with warped,
-// after phi = start + width s^2 (3 - 2 s), which absorbs a square-root onset (Fresnel
-// reflection at the critical angle) at a sub-piece's ends.
-void rp_break_node(in rp_breaks b, int n, bool warped, out float phi,
-                         out float weight) {
-    int q = n - 8 * (n / 8);
-    int sub = n / 8;
-    int i = sub / RP_TIR_SUBPIECES;
-    float width = (b.phi[i + 1] - b.phi[i]) / float(RP_TIR_SUBPIECES);
-    float start = b.phi[i] + width * float(sub - i * RP_TIR_SUBPIECES);
-    float s = rp_gl8_x_at(q);
-    if (warped) {
-        phi = start + width * s * s * (float(3.0) - float(2.0) * s);
-        weight = rp_gl8_w_at(q) * width * float(6.0) * s * (float(1.0) - s);
-    } else {
-        phi = start + width * s;
-        weight = rp_gl8_w_at(q) * width;
-    }
-}
-
-// Azimuth average of the ERA A (tir = false) or of E = A R1 R2 R3 for uncoated prisms
-// (tir = true) at t = tan(theta_t), to within 1e-6 (tests/test_physics.cpp compares it with
-// midpoint rules of 1e5 and 2e5 points checked by halving). Over the azimuth phi of the inner
-// direction (vertex k at phi_k = 2 pi k / 3), c_k = cos(phi - phi_k) and p_k = sqrt2 t c_k.
-// Derived from rp_era_offsets: A = 1 - sum_k (1 + 2 p_k)|1 + 2 p_k| / 9 while every p_k < 1,
-// else 0, so A has kinks only at p_k = -1/2 and p_k = 1; face k meets the critical angle
-// theta_c where |d.e_k| = cos theta_c. Between those azimuths the integrand is smooth; each
-// piece is integrated by Gauss-Legendre after phi = a + (b - a) s^2 (3 - 2 s), which absorbs
-// the square-root onset of Fresnel reflection at the critical angle. The mirror symmetry
-// about a vertex reduces the period (2 pi / 3) to [0, pi/3].
-float rp_retro_fraction_averaged_exact(float tanThetaT, float eta, bool tir) {
-    float t = max(tanThetaT, float(0.0));
-    if (!(t < RP_ERA_TAN_MAX)) return float(0.0);
-    float phiEnd = RP_PI / float(3.0);
-    rp_breaks b;
-    b.phi[0] = float(0.0);
-    b.n = 1;
-    if (t > float(1e-6)) {
-        float cosC = sqrt(max(float(0.0), float(1.0) - float(1.0) / (eta * eta)));
-        float secT = sqrt(float(1.0) + t * t);
-        float crit[4];
-        crit[0] = float(-0.5) / (RP_SQRT2 * t);
-        crit[1] = float(1.0) / (RP_SQRT2 * t);
-        crit[2] = (RP_INV_SQRT3 - cosC * secT) / (RP_SQRT2_3 * t);
-        crit[3] = (RP_INV_SQRT3 + cosC * secT) / (RP_SQRT2_3 * t);
-        for (int k = 0; k < 3; ++k) {
-            float phiK = float(2.0) * RP_PI * float(k) / float(3.0);
-            for (int j = 0; j < 4; ++j) {
-                if (!(abs(crit[j]) < float(1.0)) || (j >= 2 && !tir)) continue;
-                float delta = acos(crit[j]);
-                rp_add_break(b, phiK + delta, phiEnd);
-                rp_add_break(b, phiK - delta, phiEnd);
-            }
-        }
-    }
-    rp_close_breaks(b, phiEnd);
-    float sum = float(0.0);
-    for (int i = 0; i + RP_TIR_SUBPIECES < RP_TIR_SUBPIECES * b.n; ++i) {
-        // Piece i / RP_TIR_SUBPIECES, split into equal sub-pieces: a Fresnel onset just
-        // beyond a piece's end bends the integrand within a small fraction of its width.
-        int piece = i / RP_TIR_SUBPIECES;
-        float width = (b.phi[piece + 1] - b.phi[piece]) / float(RP_TIR_SUBPIECES);
-        float a = b.phi[piece] + width * float(i - piece * RP_TIR_SUBPIECES);
-        if (!(width > float(0.0))) continue;
-        for (int q = 0; q < 8; ++q) {
-            float s = rp_gl8_x_at(q);
-            float phi = a + width * s * s * (float(3.0) - float(2.0) * s);
-            float jacobian = width * float(6.0) * s * (float(1.0) - s);
-            vec3 d = normalize(vec3(t * cos(phi), t * sin(phi), float(-1.0)));
-            float e = rp_era_oriented(d, RP_ERA_V1, RP_ERA_V2, RP_ERA_V3);
-            if (tir && e > float(0.0)) {
-                e *= rp_face_reflectance_tir(d, RP_ERA_V1, eta) *
-                     rp_face_reflectance_tir(d, RP_ERA_V2, eta) *
-                     rp_face_reflectance_tir(d, RP_ERA_V3, eta);
-            }
-            sum += rp_gl8_w_at(q) * jacobian * e;
-        }
-    }
-    return sum / phiEnd;
-}
-
-// Adds the azimuths phi in (0, pi) where cos(phi - psi) = num / den (none unless |num| < den).
-// Face k of a canted prism, for the inner direction (t cos phi, t sin phi, -1), t = tan(theta_t):
-// m_k(phi) = a_k - b_k cos(phi - psi_k), a_k = 2 n_k^2, b_k = 2 n_k |e_k.xy| t (rp_era_canted),
-// so m_k = L at num = a_k - L, den = b_k.
-void rp_add_level_breaks(inout rp_breaks b, float num, float den, float psi) {
-    if (!(abs(num) < den)) return;
-    float delta = acos(num / den);
-    rp_add_break(b, psi + delta, RP_PI);
-    rp_add_break(b, psi - delta, RP_PI);
-}
-
-// Integral of (g + h cos(phi - psi))^2 over phi in [lo, hi].
-float rp_square_cos_integral(float g, float h, float psi, float lo, float hi) {
-    float sl = sin(lo - psi);
-    float cl = cos(lo - psi);
-    float sh = sin(hi - psi);
-    float ch = cos(hi - psi);
-    float w = hi - lo;
-    return g * g * w + float(2.0) * g * h * (sh - sl) +
-           h * h * (float(0.5) * w + float(0.5) * (sh * ch - sl * cl));
-}
-
-// Azimuth average of the ERA A of the material's canted prism at t = tan(theta_t), in closed
-// form. Between the azimuths where some m_k crosses 0 or 1, A is 0 (some m_k <= 0) or
-// 1 - sum_k s_k (1 - m_k)^2 with s_k the sign of 1 - m_k, an elementary integral in phi
-// (rp_square_cos_integral). The prism's mirror plane (through the normal and e_1) halves the
-// turn to [0, pi].
-float rp_era_averaged_canted(in rp_material m, float t) {
-    vec3 a = float(2.0) * m.face_z * m.face_z;
-    vec3 bk = (float(2.0) * t) * m.face_z * m.face_xy;
-    rp_breaks b;
-    b.phi[0] = float(0.0);
-    b.n = 1;
-    for (int k = 0; k < 3; ++k) {
-        rp_add_level_breaks(b, a[k], bk[k], m.face_phi[k]);
-        rp_add_level_breaks(b, a[k] - float(1.0), bk[k], m.face_phi[k]);
-    }
-    rp_close_breaks(b, RP_PI);
-    float sum = float(0.0);
-    for (int i = 0; i + 1 < b.n; ++i) {
-        float lo = b.phi[i];
-        float hi = b.phi[i + 1];
-        float mid = float(0.5) * (lo + hi);
-        bool open = true;
-        float piece = hi - lo;
-        for (int k = 0; k < 3; ++k) {
-            float mk = a[k] - bk[k] * cos(mid - m.face_phi[k]);
-            if (!(mk > float(0.0))) open = false;
-            float sgn = mk < float(1.0) ? float(1.0) : float(-1.0);
-            piece -= sgn * rp_square_cos_integral(float(1.0) - a[k], bk[k], m.face_phi[k], lo, hi);
-        }
-        if (open) sum += piece;
-    }
-    return clamp(sum / RP_PI, float(0.0), float(1.0));
-}
-
-// Azimuth average of E = A R1 R2 R3 of the material's canted uncoated prism at t = tan(theta_t),
-// integrated as rp_retro_fraction_averaged_exact does, over [0, pi] (the mirror plane): breaks
-// where some m_k crosses 0 or 1 and where face k meets the critical angle, |d.e_k| = cos theta_c,
-// i.e. cos(phi - psi_k) = (n_k +- cos theta_c sec theta_t) / (t |e_k.xy|).
-float rp_retro_fraction_averaged_canted_tir(in rp_material m, float t) {
-    vec3 e[3];
-    for (int k = 0; k < 3; ++k) {
-        e[k] =
-            vec3(m.face_xy[k] * cos(m.face_phi[k]), m.face_xy[k] * sin(m.face_phi[k]), m.face_z[k]);
-    }
-    float cosC = sqrt(max(float(0.0), float(1.0) - float(1.0) / (m.eta * m.eta)));
-    float secT = sqrt(float(1.0) + t * t);
-    rp_breaks b;
-    b.phi[0] = float(0.0);
-    b.n = 1;
-    for (int k = 0; k < 3; ++k) {
-        float a = float(2.0) * m.face_z[k] * m.face_z[k];
-        float bk = float(2.0) * t * m.face_z[k] * m.face_xy[k];
-        rp_add_level_breaks(b, a, bk, m.face_phi[k]);
-        rp_add_level_breaks(b, a - float(1.0), bk, m.face_phi[k]);
-        rp_add_level_breaks(b, m.face_z[k] - cosC * secT, t * m.face_xy[k], m.face_phi[k]);
-        rp_add_level_breaks(b, m.face_z[k] + cosC * secT, t * m.face_xy[k], m.face_phi[k]);
-    }
-    rp_close_breaks(b, RP_PI);
-    float sum = float(0.0);
-    for (int n = 0; n < 8 * RP_TIR_SUBPIECES * (b.n - 1); ++n) {
-        float phi;
-        float weight;
-        rp_break_node(b, n, true, phi, weight);
-        vec3 d = normalize(vec3(t * cos(phi), t * sin(phi), float(-1.0)));
-        float f = rp_era_canted(d, e[0], e[1], e[2]);
-        if (f > float(0.0)) {
-            f *= rp_fresnel_internal(abs(dot(d, e[0])), m.eta) *
-                 rp_fresnel_internal(abs(dot(d, e[1])), m.eta) *
-                 rp_fresnel_internal(abs(dot(d, e[2])), m.eta);
-        }
-        sum += weight * f;
-    }
-    return sum / RP_PI;
-}
-
-// E for the azimuth-averaged canted prism at t = tan(theta_t).
-float rp_retro_fraction_averaged_canted(in rp_material m, float t) {
-    if (m.prism_reflection == RP_PRISM_TIR) return rp_retro_fraction_averaged_canted_tir(m, t);
-    float a = rp_era_averaged_canted(m, t);
-    if (m.prism_reflection == RP_PRISM_METALLIZED) a *= m.metal_r3;
-    return a;
-}
-
-// The retroreflected fraction E for the mean refracted direction d in the node's ERA mode, given
-// its sin(theta_t) = |d.xy|.
-float rp_retro_fraction_s(in rp_material m, vec3 d, float sinThetaT) {
-    if (m.era_mode == RP_ERA_ORIENTED) return rp_retro_fraction_oriented(m, d);
-    if (m.era_mode == RP_ERA_MATCHED_PAIR) {
-        vec3 dPair = vec3(-d.x, -d.y, d.z);
-        return float(0.5) *
-               (rp_retro_fraction_oriented(m, d) + rp_retro_fraction_oriented(m, dPair));
-    }
-    if (m.era_mode == RP_ERA_AVERAGED) {
-        float tanThetaT = sinThetaT / max(abs(d.z), RP_MIN_COS);
-        if (m.canted != 0) return rp_retro_fraction_averaged_canted(m, tanThetaT);
-        if (m.prism_reflection == RP_PRISM_TIR) {
-            if (m.fidelity == RP_FIDELITY_FAST)
-                return rp_retro_fraction_tir_table(tanThetaT, m.eta);
-            return rp_retro_fraction_averaged_exact(tanThetaT, m.eta, true);
-        }
-        float a = rp_era_averaged(tanThetaT);
-        if (m.prism_reflection == RP_PRISM_METALLIZED) a *= m.metal_r3;
-        return a;
-    }
-    return float(0.0);
-}
-
-// The same from the direction alone.
-float rp_retro_fraction(in rp_material m, vec3 d) {
-    return rp_retro_fraction_s(m, d, sqrt(d.x * d.x + d.y * d.y));
-}
-
 // ---- Metallized prisms: the light that reaches the substrate --------------------------------
 //
 // A ray entering the aperture meets one, two or three faces: every ray meets a face first (the
@@ -2778,70 +2508,285 @@ float rp_metal_passed_oriented(in rp_material m, vec3 d) {
     return rp_metal_passed(m.metal_r, rp_era_of(m, d), rp_face_hits_of_m(mk));
 }
 
-// Azimuth average of sum_k H_k at t = tan(theta_t) for a prism whose faces have e_k.z = faceZ,
-// |e_k.xy| = faceXY and azimuths facePhi, mirror-symmetric about the azimuth 0 (averaged over
-// [0, pi]). m_k(phi) = a_k - b_k cos(phi - psi_k) as in rp_era_averaged_canted; H_k changes form
-// only where some m_k crosses 0 or 1 (s_k = 1 is m_k = 1 while m_i, m_j <= 1, else m_i or m_j = 0,
-// since the m_k sum to 2), so between those azimuths the integrand is analytic and
-// Gauss-Legendre in RP_TIR_SUBPIECES sub-pieces integrates it (tests/nodes/test_physics.cpp
-// measures the error against a midpoint rule). Also generates the paper's cube's table.
-float rp_metal_hits_averaged(vec3 faceZ, vec3 faceXY, vec3 facePhi, float t) {
+// ---- Azimuth averages (the averaged ERA mode) ----------------------------------------------
+//
+// The averaged mode integrates over the azimuth phi of the inner direction
+// d = (t cos phi, t sin phi, -1) / sqrt(1 + t^2), t = tan(theta_t). For a prism whose face k has
+// e_k.z = n_k, |e_k.xy| = x_k at azimuth psi_k, m_k(phi) = 2 n_k (d.e_k) / d.z =
+// a_k - b_k cos(phi - psi_k), a_k = 2 n_k^2, b_k = 2 n_k x_k t (rp_era_canted), and
+// d.e_k = (t x_k cos(phi - psi_k) - n_k) cos(theta_t). One integrator serves every average the
+// tables do not: the canted prism's A and E, the exact tier's E of uncoated prisms and the
+// metallized prisms' face hits, so that a shader holds one copy of it per direction.
+
+// Most azimuths at which an average's integrand can change form over the range integrated:
+// 3 faces x 4 levels x 2 signs, plus the two ends.
+const int RP_TIR_MAX_BREAKS = 26;
+
+// The break points of an azimuth integral, in (0, end) until sorted.
+struct rp_breaks {
+    float phi[RP_TIR_MAX_BREAKS];
+    int n;
+};
+
+// Adds the azimuth phi, taken modulo 2 pi, when it falls in (0, phiEnd) and there is room.
+void rp_add_break(inout rp_breaks b, float phi, float phiEnd) {
+    phi = phi - float(2.0) * RP_PI * floor(phi / (float(2.0) * RP_PI));
+    if (phi > float(0.0) && phi < phiEnd && b.n < RP_TIR_MAX_BREAKS - 1) {
+        b.phi[b.n] = phi;
+        b.n += 1;
+    }
+}
+
+// Adds the azimuths phi in (0, phiEnd) where cos(phi - psi) = num / den (none unless
+// |num| < den): m_k = L at num = a_k - L, den = b_k.
+void rp_add_level_breaks(inout rp_breaks b, float num, float den, float psi, float phiEnd) {
+    if (!(abs(num) < den)) return;
+    float delta = acos(num / den);
+    rp_add_break(b, psi + delta, phiEnd);
+    rp_add_break(b, psi - delta, phiEnd);
+}
+
+// Adds the end phiEnd and sorts (insertion sort of the few break points): the pieces are then
+// [b.phi[i], b.phi[i + 1]], i + 1 < b.n.
+void rp_close_breaks(inout rp_breaks b, float phiEnd) {
+    b.phi[b.n] = phiEnd;
+    b.n += 1;
+    for (int i = 1; i < b.n; ++i) {
+        float key = b.phi[i];
+        int j = i - 1;
+        while (j >= 0 && b.phi[j] > key) {
+            b.phi[j + 1] = b.phi[j];
+            j -= 1;
+        }
+        b.phi[j + 1] = key;
+    }
+}
+
+// Integral of (g + h cos(phi - psi))^2 over phi in [lo, hi].
+float rp_square_cos_integral(float g, float h, float psi, float lo, float hi) {
+    float sl = sin(lo - psi);
+    float cl = cos(lo - psi);
+    float sh = sin(hi - psi);
+    float ch = cos(hi - psi);
+    float w = hi - lo;
+    return g * g * w + float(2.0) * g * h * (sh - sl) +
+           h * h * (float(0.5) * w + float(0.5) * (sh * ch - sl * cl));
+}
+
+// Gauss-Legendre rule of 8 points on [0, 1] (the 8-point rule of [-1, 1], halved).
+const vec4 rp_gl8_x_v4[2] = vec4[2](
+    vec4(0.0198550718, 0.101666761, 0.237233795, 0.408282679), vec4(0.591717321, 0.762766205, 0.898333239, 0.980144928));
+float rp_gl8_x_at(int i) {
+    return rp_gl8_x_v4[i >> 2][i & 3];
+} const vec4 rp_gl8_w_v4[2] = vec4[2](
+    vec4(0.0506142681, 0.111190517, 0.156853323, 0.181341892), vec4(0.181341892, 0.156853323, 0.111190517, 0.0506142681));
+float rp_gl8_w_at(int i) {
+    return rp_gl8_w_v4[i >> 2][i & 3];
+}
+
+    // Gauss-Legendre sub-pieces per piece: 4 bring the worst error of the uncoated average
+    // (eta in [1.05, 3], all theta_t) from 1.1e-5 with one to 5.6e-7 (tests/test_physics.cpp).
+    const int RP_TIR_SUBPIECES = 4;
+
+// Azimuth averages at t = tan(theta_t) for a prism whose faces have e_k.z = faceZ,
+// |e_k.xy| = faceXY at azimuths facePhi, over [0, phiEnd]: pi for a prism mirror-symmetric about
+// the azimuth 0, pi / 3 for the paper's cube (also three-fold). x: the ERA A, times the uncoated
+// faces' reflectances R1 R2 R3 at ior eta with tir; y: with hits, the faces a ray meets,
+// sum_k H_k (rp_face_hits_of_m). Breaks: where some m_k crosses 0 or 1 (A and H_k change form
+// there) and, with tir, where face k meets the critical angle, |d.e_k| = cos theta_c, i.e.
+// cos(phi - psi_k) = (n_k +- cos theta_c sec theta_t) / (t x_k). Between breaks A alone is
+// 0 (some m_k <= 0) or 1 - sum_k s_k (1 - m_k)^2, s_k the sign of 1 - m_k, an elementary
+// integral (rp_square_cos_integral); the rest is integrated by Gauss-Legendre in
+// RP_TIR_SUBPIECES sub-pieces per piece, with tir after phi = start + width s^2 (3 - 2 s), which
+// absorbs the square-root onset of Fresnel reflection at the critical angle. tests/nodes/
+// test_physics.cpp compares each average with midpoint rules checked by halving.
+vec2 rp_azimuth_average(vec3 faceZ, vec3 faceXY, vec3 facePhi, float phiEnd, float t, float eta,
+                              bool tir, bool hits) {
     vec3 a = float(2.0) * faceZ * faceZ;
     vec3 bk = (float(2.0) * t) * faceZ * faceXY;
+    float secT = sqrt(float(1.0) + t * t);
+    float cosC = sqrt(max(float(0.0), float(1.0) - float(1.0) / (eta * eta)));
     rp_breaks b;
     b.phi[0] = float(0.0);
     b.n = 1;
     for (int k = 0; k < 3; ++k) {
-        rp_add_level_breaks(b, a[k], bk[k], facePhi[k]);
-        rp_add_level_breaks(b, a[k] - float(1.0), bk[k], facePhi[k]);
+        rp_add_level_breaks(b, a[k], bk[k], facePhi[k], phiEnd);
+        rp_add_level_breaks(b, a[k] - float(1.0), bk[k], facePhi[k], phiEnd);
+        if (tir) {
+            rp_add_level_breaks(b, faceZ[k] - cosC * secT, t * faceXY[k], facePhi[k], phiEnd);
+            rp_add_level_breaks(b, faceZ[k] + cosC * secT, t * faceXY[k], facePhi[k], phiEnd);
+        }
     }
-    rp_close_breaks(b, RP_PI);
-    float sum = float(0.0);
-    for (int n = 0; n < 8 * RP_TIR_SUBPIECES * (b.n - 1); ++n) {
-        float phi;
-        float weight;
-        rp_break_node(b, n, false, phi, weight);
-        vec3 mk = a - bk * vec3(cos(phi - facePhi.x), cos(phi - facePhi.y), cos(phi - facePhi.z));
-        sum += weight * rp_face_hits_of_m(mk);
+    rp_close_breaks(b, phiEnd);
+    float sumA = float(0.0);
+    float sumH = float(0.0);
+    for (int i = 0; i + 1 < b.n; ++i) {
+        float lo = b.phi[i];
+        float hi = b.phi[i + 1];
+        if (!(hi > lo)) continue;
+        if (!tir) {
+            float mid = float(0.5) * (lo + hi);
+            bool open = true;
+            float piece = hi - lo;
+            for (int k = 0; k < 3; ++k) {
+                float mk = a[k] - bk[k] * cos(mid - facePhi[k]);
+                if (!(mk > float(0.0))) open = false;
+                float sgn = mk < float(1.0) ? float(1.0) : float(-1.0);
+                piece -= sgn * rp_square_cos_integral(float(1.0) - a[k], bk[k], facePhi[k], lo, hi);
+            }
+            if (open) sumA += piece;
+            if (!hits) continue;
+        }
+        float width = (hi - lo) / float(RP_TIR_SUBPIECES);
+        for (int n = 0; n < 8 * RP_TIR_SUBPIECES; ++n) {
+            int sub = n / 8;
+            int q = n - 8 * sub;
+            float s = rp_gl8_x_at(q);
+            float phi = lo + width * (float(sub) + s);
+            float weight = rp_gl8_w_at(q) * width;
+            if (tir) {
+                phi = lo + width * (float(sub) + s * s * (float(3.0) - float(2.0) * s));
+                weight *= float(6.0) * s * (float(1.0) - s);
+            }
+            vec3 c = vec3(cos(phi - facePhi.x), cos(phi - facePhi.y), cos(phi - facePhi.z));
+            vec3 mk = a - bk * c;
+            if (tir && mk.x > float(0.0) && mk.y > float(0.0) && mk.z > float(0.0)) {
+                vec3 l = vec3(float(1.0)) - mk;
+                float e = clamp(float(1.0) - l.x * abs(l.x) - l.y * abs(l.y) - l.z * abs(l.z),
+                               float(0.0), float(1.0));
+                vec3 cosK = abs(t * faceXY * c - faceZ) / secT;
+                e *= rp_fresnel_internal(cosK.x, eta) * rp_fresnel_internal(cosK.y, eta) *
+                     rp_fresnel_internal(cosK.z, eta);
+                sumA += weight * e;
+            }
+            if (hits) sumH += weight * rp_face_hits_of_m(mk);
+        }
     }
-    return sum / RP_PI;
+    return vec2(sumA, sumH) / phiEnd;
 }
 
-// The paper's cube's azimuth average of sum_k H_k at t = tan(theta_t): linear interpolation in
-// the generated table over [0, RP_ERA_TAN_MAX], integrated beyond (theta_t > 54.74 deg, only for
-// ior < 1.23).
-float rp_metal_hits_paper_direct(float tanThetaT) {
-    // e_k.z = 1/sqrt3, |e_k.xy| = sqrt(2/3), at the vertex azimuths.
+// The paper's cube's azimuth average of A (tir = false) or of E = A R1 R2 R3 for uncoated
+// prisms (tir = true) at t = tan(theta_t), to within 1e-6 (tests/test_physics.cpp compares it
+// with midpoint rules of 1e5 and 2e5 points checked by halving); 0 beyond
+// t = RP_ERA_TAN_MAX (theta_t > 54.74 deg, where some m_k <= 0 at every azimuth). The faces
+// lie at the vertex azimuths 0 and +-2 pi / 3.
+float rp_retro_fraction_averaged_exact(float tanThetaT, float eta, bool tir) {
+    float t = max(tanThetaT, float(0.0));
+    if (!(t < RP_ERA_TAN_MAX)) return float(0.0);
     float third = float(2.0) * RP_PI / float(3.0);
-    return rp_metal_hits_averaged(vec3(RP_INV_SQRT3), vec3(RP_SQRT2_3),
-                                  vec3(float(0.0), third, -third), tanThetaT);
+    return rp_azimuth_average(vec3(RP_INV_SQRT3), vec3(RP_SQRT2_3), vec3(float(0.0), third, -third),
+                              RP_PI / float(3.0), t, eta, tir, false)
+        .x;
 }
 
+// The paper's cube's azimuth average of sum_k H_k at t = tan(theta_t) (generates its table).
+float rp_metal_hits_paper_direct(float tanThetaT) {
+    float third = float(2.0) * RP_PI / float(3.0);
+    return rp_azimuth_average(vec3(RP_INV_SQRT3), vec3(RP_SQRT2_3), vec3(float(0.0), third, -third),
+                              RP_PI / float(3.0), max(tanThetaT, float(0.0)), float(1.0), false, true)
+        .y;
+}
+
+// The same by linear interpolation in the generated table, t in [0, RP_ERA_TAN_MAX].
 float rp_metal_hits_paper(float tanThetaT) {
-    if (!(tanThetaT < RP_ERA_TAN_MAX)) return rp_metal_hits_paper_direct(tanThetaT);
-    float x = max(tanThetaT, float(0.0)) * float(RP_METAL_HITS_N - 1) / RP_ERA_TAN_MAX;
+    float x =
+        clamp(tanThetaT, float(0.0), RP_ERA_TAN_MAX) * float(RP_METAL_HITS_N - 1) / RP_ERA_TAN_MAX;
     int i = min(int(x), RP_METAL_HITS_N - 2);
     float f = x - float(i);
     return mix(rp_metal_hits_avg_table_at(i), rp_metal_hits_avg_table_at(i + 1), f);
 }
 
-// The fraction of the light refracted into the sheet (mean direction d, sin(theta_t) = |d.xy|)
-// that metallized prisms pass to the substrate, in the node's ERA mode.
-float rp_metal_passed_s(in rp_material m, vec3 d, float sinThetaT) {
-    if (m.era_mode == RP_ERA_ORIENTED) return rp_metal_passed_oriented(m, d);
+// The retroreflected fraction E (era) and the fraction of the refracted light that reaches the
+// substrate (passed: 1 - E, or what metallized prisms pass on) for the mean refracted direction d,
+// sin(theta_t) = |d.xy|, in the node's ERA mode. The averaged mode reads the paper's cube's
+// tables where they serve and calls rp_azimuth_average (once) for the rest.
+void rp_retro_passed_s(in rp_material m, vec3 d, float sinThetaT, out float era,
+                                 out float passed) {
+    era = float(0.0);
+    passed = float(1.0);
+    if (m.era_mode == RP_ERA_ORIENTED) {
+        era = rp_retro_fraction_oriented(m, d);
+        passed = float(1.0) - era;
+        if (m.prism_reflection == RP_PRISM_METALLIZED) passed = rp_metal_passed_oriented(m, d);
+    }
     if (m.era_mode == RP_ERA_MATCHED_PAIR) {
         vec3 dPair = vec3(-d.x, -d.y, d.z);
-        return float(0.5) * (rp_metal_passed_oriented(m, d) + rp_metal_passed_oriented(m, dPair));
+        era = float(0.5) * (rp_retro_fraction_oriented(m, d) + rp_retro_fraction_oriented(m, dPair));
+        passed = float(1.0) - era;
+        if (m.prism_reflection == RP_PRISM_METALLIZED) {
+            passed =
+                float(0.5) * (rp_metal_passed_oriented(m, d) + rp_metal_passed_oriented(m, dPair));
+        }
     }
     if (m.era_mode == RP_ERA_AVERAGED) {
         float t = sinThetaT / max(abs(d.z), RP_MIN_COS);
-        if (m.canted != 0) {
-            return rp_metal_passed(m.metal_r, rp_era_averaged_canted(m, t),
-                                   rp_metal_hits_averaged(m.face_z, m.face_xy, m.face_phi, t));
+        bool tir = false;
+        tir = m.prism_reflection == RP_PRISM_TIR;
+        bool metal = false;
+        metal = m.prism_reflection == RP_PRISM_METALLIZED;
+        bool canted = false;
+        canted = m.canted != 0;
+        // The average of A (times R1 R2 R3 when uncoated) and of sum_k H_k (metallized).
+        float area = float(0.0);
+        float hits = float(0.0);
+        bool integrate = canted;
+        if (!canted) {
+            area = rp_era_averaged(t);
+            if (tir && m.fidelity == RP_FIDELITY_FAST) area = rp_retro_fraction_tir_table(t, m.eta);
+            if (tir && m.fidelity == RP_FIDELITY_EXACT && t < RP_ERA_TAN_MAX) integrate = true;
+            if (metal) {
+                if (t < RP_ERA_TAN_MAX) {
+                    hits = rp_metal_hits_paper(t);
+                } else {
+                    integrate = true;
+                }
+            }
         }
-        return rp_metal_passed(m.metal_r, rp_era_averaged(t), rp_metal_hits_paper(t));
+        if (integrate) {
+            // One call whatever the faces, so that a shader holds one copy of the integrator per
+            // direction it evaluates.
+            float third = float(2.0) * RP_PI / float(3.0);
+            vec3 faceZ = vec3(RP_INV_SQRT3);
+            vec3 faceXY = vec3(RP_SQRT2_3);
+            vec3 facePhi = vec3(float(0.0), third, -third);
+            float phiEnd = RP_PI / float(3.0);
+            if (canted) {
+                faceZ = m.face_z;
+                faceXY = m.face_xy;
+                facePhi = m.face_phi;
+                phiEnd = RP_PI;
+            }
+            vec2 avg = rp_azimuth_average(faceZ, faceXY, facePhi, phiEnd, t, m.eta, tir, metal);
+            area = avg.x;
+            hits = avg.y;
+        }
+        era = clamp(area, float(0.0), float(1.0));
+        if (m.prism_reflection == RP_PRISM_METALLIZED) era *= m.metal_r3;
+        passed = float(1.0) - era;
+        if (metal) passed = rp_metal_passed(m.metal_r, clamp(area, float(0.0), float(1.0)), hits);
     }
-    return float(0.0);
+}
+
+// E alone for the mean refracted direction d with sin(theta_t) = |d.xy|.
+float rp_retro_fraction_s(in rp_material m, vec3 d, float sinThetaT) {
+    float era;
+    float passed;
+    rp_retro_passed_s(m, d, sinThetaT, era, passed);
+    return era;
+}
+
+// The same from the direction alone.
+float rp_retro_fraction(in rp_material m, vec3 d) {
+    return rp_retro_fraction_s(m, d, sqrt(d.x * d.x + d.y * d.y));
+}
+
+// The fraction of the light refracted into the sheet (mean direction d, sin(theta_t) = |d.xy|)
+// that metallized prisms pass to the substrate, in the node's ERA mode.
+float rp_metal_passed_s(in rp_material m, vec3 d, float sinThetaT) {
+    float era;
+    float passed;
+    rp_retro_passed_s(m, d, sinThetaT, era, passed);
+    return passed;
 }
 
 // ---- Material preparation ----------------------------------------------------------------
@@ -3085,10 +3030,8 @@ void rp_incident_lobes(in rp_material m, vec3 wi, out rp_incident s) {
     float cosThetaT = sqrt(m.eta2m1 + cos2I) * m.inv_eta;
     s.dt = vec3(-wi.x * m.inv_eta, -wi.y * m.inv_eta, -cosThetaT);
     s.era = float(0.0);
-    s.era = rp_retro_fraction_s(m, s.dt, sinThetaI * m.inv_eta);
-    s.passed = float(1.0) - s.era;
-    if (m.prism_reflection == RP_PRISM_METALLIZED)
-        s.passed = rp_metal_passed_s(m, s.dt, sinThetaI * m.inv_eta);
+    s.passed = float(1.0);
+    rp_retro_passed_s(m, s.dt, sinThetaI * m.inv_eta, s.era, s.passed);
     s.fresI = float(0.0);
     s.transI = rp_fresnel_transmittance(cosThetaI, m.eta);
     s.lobeProb = vec3(float(0.0));
