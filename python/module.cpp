@@ -15,12 +15,12 @@ namespace retroprism::python {
 
 namespace {
 
-// wi and wo of one precision and length.
-std::pair<Batch, Batch> pair_args(const pyb::handle& wi, const pyb::handle& wo) {
+// The node at pairs (wi, wo) of one precision and length: lobes, and the pdf when withPdf.
+pyb::dict eval_pairs(const Node& n, const pyb::handle& wi, const pyb::handle& wo, bool withPdf) {
     Batch a = batch_arg(wi, "wi");
     Batch b = batch_arg(wo, "wo");
     require_same(a, "wi", b, "wo");
-    return {a, b};
+    return eval_batch(n, a, b, withPdf);
 }
 
 pyb::object era_of(const pyb::handle& thetaT, const pyb::handle& phi, const std::string& mode,
@@ -108,8 +108,7 @@ void define_node(pyb::module_& m) {
         .def(
             "eval",
             [](const Node& n, const pyb::handle& wi, const pyb::handle& wo) {
-                auto [a, b] = pair_args(wi, wo);
-                return eval_batch(n, a, b, true);
+                return eval_pairs(n, wi, wo, true);
             },
             pyb::arg("wi"), pyb::arg("wo"),
             "BRDF without the cosine (1/sr) per lobe and in total, and the sampling pdf: "
@@ -117,17 +116,14 @@ void define_node(pyb::module_& m) {
         .def(
             "f",
             [](const Node& n, const pyb::handle& wi, const pyb::handle& wo) {
-                auto [a, b] = pair_args(wi, wo);
-                return eval_batch(n, a, b, false);
+                return eval_pairs(n, wi, wo, false);
             },
             pyb::arg("wi"), pyb::arg("wo"),
             "eval() without the pdf (cheaper): {'f', 'surface', 'retro', 'diffuse': (N, 3)}.")
         .def(
             "pdf",
             [](const Node& n, const pyb::handle& wi, const pyb::handle& wo) {
-                auto [a, b] = pair_args(wi, wo);
-                const pyb::dict e = eval_batch(n, a, b, true);
-                return pyb::object(e["pdf"]);
+                return pyb::object(eval_pairs(n, wi, wo, true)["pdf"]);
             },
             pyb::arg("wi"), pyb::arg("wo"), "The one-sample-mixture sampling pdf (N,) in 1/sr.")
         .def(

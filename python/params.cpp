@@ -1,7 +1,6 @@
 #include "params.h"
 
 #include <string>
-#include <type_traits>
 
 #include <nlohmann/json.hpp>
 #include <pybind11/numpy.h>
@@ -36,8 +35,17 @@ json to_json(const pyb::handle& v, const std::string& field) {
                            std::string(pyb::str(pyb::type::of(v).attr("__name__"))));
 }
 
-pyb::tuple triple(const Vec3d& v) {
-    return pyb::make_tuple(v[0], v[1], v[2]);
+// A value of params_to_json as Python: numbers, strings, booleans, arrays as tuples.
+pyb::object from_json(const json& v) {
+    if (v.is_boolean()) return pyb::bool_(v.get<bool>());
+    if (v.is_string()) return pyb::str(v.get<std::string>());
+    if (v.is_array()) {
+        pyb::tuple t(v.size());
+        for (std::size_t i = 0; i < v.size(); ++i)
+            t[i] = from_json(v[i]);
+        return std::move(t);
+    }
+    return pyb::float_(v.get<double>());
 }
 
 } // namespace
@@ -63,45 +71,39 @@ Params params_from_python(const pyb::args& args, const pyb::kwargs& kwargs) {
 }
 
 pyb::dict params_to_python(const Params& p) {
+    // The JSON writer's names and values (enums by name), in the parameter table's order.
+    const json j = params_to_json(p);
     pyb::dict d;
-    for_each_input(p, [&](const ParamInfo& info, const auto& field) {
-        using T = std::decay_t<decltype(field)>;
-        if constexpr (std::is_same_v<T, Vec3d>)
-            d[info.name] = triple(field);
-        else if constexpr (std::is_same_v<T, int>)
-            d[info.name] = enum_values(info).at(std::size_t(field));
-        else
-            d[info.name] = field;
-    });
+    for (const ParamInfo& info : param_table())
+        d[info.name] = from_json(j.at(info.name));
     return d;
 }
 
 pyb::list param_table_python() {
+    const pyb::dict defaults = params_to_python(Params());
     pyb::list out;
     for (const ParamInfo& info : param_table()) {
         pyb::dict row;
         row["name"] = info.name;
-        const Vec3d def = {info.default_value[0], info.default_value[1], info.default_value[2]};
         switch (info.type) {
         case ParamType::Float:
             row["type"] = "float";
-            row["default"] = def[0];
             break;
         case ParamType::Color:
+            row["type"] = "color3";
+            break;
         case ParamType::Vector:
-            row["type"] = info.type == ParamType::Color ? "color3" : "vector3";
-            row["default"] = triple(def);
+            row["type"] = "vector3";
             break;
         case ParamType::Enum:
             row["type"] = "string";
-            row["default"] = enum_values(info).at(std::size_t(def[0]));
-            row["values"] = enum_values(info);
             break;
         case ParamType::Bool:
             row["type"] = "boolean";
-            row["default"] = def[0] != 0;
             break;
         }
+        row["default"] = defaults[info.name];
+        if (info.type == ParamType::Enum) row["values"] = enum_values(info);
         if (info.type == ParamType::Float || info.type == ParamType::Color) {
             row["min"] = info.min_value;
             row["max"] = info.max_value;
