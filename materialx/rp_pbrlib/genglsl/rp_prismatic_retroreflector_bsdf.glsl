@@ -3191,7 +3191,10 @@ float rp_retro_density(in rp_incident s, vec3 wo, vec3 wi) {
     float sy = dot(dw, s.ePerp) * invCosP;
     float x = sx * sx * s.invAlphaPar2 + sy * sy * s.invAlphaPerp2;
     if (s.ringRadius > float(0.0)) {
-        return invCosP * invCosP * invCosP * s.retroNorm * rp_ring_gaussian(sqrt(x), s.ringRadius);
+        // Zero first: far from the ring (wo near the horizon of wi) 1 / cos^3 overflows a float.
+        float ring = rp_ring_gaussian(sqrt(x), s.ringRadius);
+        if (!(ring > float(0.0))) return float(0.0);
+        return invCosP * invCosP * invCosP * s.retroNorm * ring;
     }
     if (!(x <= RP_MAX_EXP)) return float(0.0);
     return invCosP * invCosP * invCosP * s.retroNorm * exp(-x);
