@@ -2731,9 +2731,18 @@ void rp_retro_passed_s(in rp_material m, vec3 d, float sinThetaT, out float era,
         float hits = float(0.0);
         bool integrate = canted;
         if (!canted) {
-            area = rp_era_averaged(t);
-            if (tir && m.fidelity == RP_FIDELITY_FAST) area = rp_retro_fraction_tir_table(t, m.eta);
-            if (tir && m.fidelity == RP_FIDELITY_EXACT && t < RP_ERA_TAN_MAX) integrate = true;
+            // Uncoated prisms: the fast tier's table or the exact tier's integral (0 beyond the
+            // table's end, where A is); every other prism starts from the ERA table.
+            bool eraTable = true;
+            if (tir && m.fidelity == RP_FIDELITY_FAST) {
+                area = rp_retro_fraction_tir_table(t, m.eta);
+                eraTable = false;
+            }
+            if (tir && m.fidelity == RP_FIDELITY_EXACT) {
+                integrate = t < RP_ERA_TAN_MAX;
+                eraTable = false;
+            }
+            if (eraTable) area = rp_era_averaged(t);
             if (metal) {
                 if (t < RP_ERA_TAN_MAX) {
                     hits = rp_metal_hits_paper(t);
@@ -2760,10 +2769,11 @@ void rp_retro_passed_s(in rp_material m, vec3 d, float sinThetaT, out float era,
             area = avg.x;
             hits = avg.y;
         }
-        era = clamp(area, float(0.0), float(1.0));
+        area = clamp(area, float(0.0), float(1.0));
+        era = area;
         if (m.prism_reflection == RP_PRISM_METALLIZED) era *= m.metal_r3;
         passed = float(1.0) - era;
-        if (metal) passed = rp_metal_passed(m.metal_r, clamp(area, float(0.0), float(1.0)), hits);
+        if (metal) passed = rp_metal_passed(m.metal_r, area, hits);
     }
 }
 
