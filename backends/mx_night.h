@@ -16,11 +16,13 @@
 //
 // Layers: where every rp_prismatic_retroreflector_bsdf node of the material has its specular,
 // retro_color and diffuse_color inputs as uniforms (not connected), the material is drawn
-// once with each lobe of every such node alone (the other two at 0) and once with all three at
-// 0; these are the layers surface, retro, diffuse (the node's lobes as they reach the surface
-// through the graph: under a coat, weighted by a mix) and other (the graph's other BSDFs). A
-// MaterialX surface is linear in each BSDF's response, so the layers sum to the material's
-// response. Otherwise the material is drawn once, into `other`.
+// once with each lobe of every such node alone (the other two at 0) and, when the material
+// has other nodes, once with all three at 0 (the rest: the graph's other BSDFs, the layer
+// `other`). A MaterialX surface is linear in each BSDF's response (layer: top + base x the
+// top's throughput; mix: a weighted sum), so a lobe's draw less the rest is the node's lobe as
+// it reaches the surface through the graph (under a coat, weighted by a mix): the layers
+// surface, retro and diffuse, which with `other` sum to the material's response. Otherwise the
+// material is drawn once, into `other`.
 #pragma once
 
 #include "mx_material.h"
@@ -44,7 +46,6 @@ class MxNightRenderer {
     NightImage render(const NightSettings& settings);
 
   private:
-    struct Impl;
     void draw_pass(int lobe, int w, int h);
     EglContext context_;
     MxMaterial material_;
