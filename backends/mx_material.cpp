@@ -42,7 +42,8 @@ MxMaterial read_manifest(const fs::path& dir, const std::string& material) {
     MxMaterial m;
     m.material = material;
     m.shaders = read_mx_shaders(dir.string(), material);
-    const nlohmann::json j = nlohmann::json::parse(read_text_file((dir / (material + ".glsl.json")).string()));
+    const nlohmann::json j =
+        nlohmann::json::parse(read_text_file((dir / (material + ".glsl.json")).string()));
     for (const auto& u : j.at("uniforms")) {
         MxUniform x;
         x.variable = u.at("variable").get<std::string>();
