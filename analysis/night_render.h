@@ -53,8 +53,12 @@ struct NightSceneInfo {
 struct NightImage {
     int width = 0, height = 0;
     // Per pixel, row 0 at the top: surface, retro, diffuse linear RGB (3 floats each), and the
-    // coverage.
+    // coverage. A MaterialX material (backends/mx_night.h) has the node's lobes as they reach
+    // the surface through its graph where the graph allows separating them (empty otherwise),
+    // and in `other` the rest of its response (everything when the lobes are empty); `other` is
+    // empty for the node alone. The radiance is the sum of the layers present.
     std::vector<float> surface, retro, diffuse, alpha;
+    std::vector<float> other;
     NightSceneInfo scene;
     long anomalies = 0; // NaN, infinite or negative lobe values the BRDF returned (must be 0)
 };

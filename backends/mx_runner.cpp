@@ -43,8 +43,6 @@ std::string read_text(const fs::path& p) {
     return ss.str();
 }
 
-using Mat4 = std::array<float, 16>; // column-major, as OpenGL reads it
-
 Mat4 identity() {
     return {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
 }
@@ -206,7 +204,9 @@ void target(unsigned fbo, unsigned tex, int w, int h) {
     glClear(GL_COLOR_BUFFER_BIT);
 }
 
-void set_light(unsigned program, int i, const MxLight& l) {
+} // namespace
+
+void mx_set_light(unsigned program, int i, const MxLight& l) {
     auto loc = [&](const char* field) {
         return glGetUniformLocation(program,
                                     ("u_lightData[" + std::to_string(i) + "]." + field).c_str());
@@ -221,7 +221,7 @@ void set_light(unsigned program, int i, const MxLight& l) {
     glUniform1f(loc("decay_rate"), float(l.decay_rate));
 }
 
-void set_matrices(unsigned program, const Mat4& viewProjection) {
+void mx_set_matrices(unsigned program, const Mat4& viewProjection) {
     const Mat4 id = identity();
     glUniformMatrix4fv(glGetUniformLocation(program, "u_worldMatrix"), 1, GL_FALSE, id.data());
     glUniformMatrix4fv(glGetUniformLocation(program, "u_worldInverseTransposeMatrix"), 1, GL_FALSE,
@@ -229,8 +229,6 @@ void set_matrices(unsigned program, const Mat4& viewProjection) {
     glUniformMatrix4fv(glGetUniformLocation(program, "u_viewProjectionMatrix"), 1, GL_FALSE,
                        viewProjection.data());
 }
-
-} // namespace
 
 // The environment samplers read the black texture on unit 1.
 void MaterialXRunner::bind_environment(unsigned program, unsigned envTex) {
@@ -255,7 +253,7 @@ std::vector<Result> MaterialXRunner::evaluate(const Params& p,
     // The quad spans the whole viewport, so a 1 x 1 viewport's one fragment sits at its
     // centre: the world origin, where V = normalize(u_viewPosition).
     upload_quad(program_, vao_, vbo_, s.normal, s.tangent);
-    set_matrices(program_, identity());
+    mx_set_matrices(program_, identity());
     glUniform1i(glGetUniformLocation(program_, "u_numActiveLightSources"), 1);
     std::vector<float> pixels(size_t(w) * size_t(h) * 4);
     for (int lobe = 0; lobe < 3; ++lobe) {
@@ -271,7 +269,7 @@ std::vector<Result> MaterialXRunner::evaluate(const Params& p,
             const Vec3d& wo = pairs[k][1];
             MxLight light;
             light.direction = {-wi[0], -wi[1], -wi[2]};
-            set_light(program_, 0, light);
+            mx_set_light(program_, 0, light);
             glUniform3f(glGetUniformLocation(program_, "u_viewPosition"), float(wo[0]),
                         float(wo[1]), float(wo[2]));
             glViewport(GLint(k % size_t(w)), GLint(k / size_t(w)), 1, 1);
@@ -349,7 +347,7 @@ MxImage MaterialXRunner::render(int w, int h, const Vec3d& eye, double fovDeg,
         const unsigned prog = pass == 0 ? program_ : posProgram_;
         glUseProgram(prog);
         upload_quad(prog, vao_, vbo_, {0, 0, 1}, {1, 0, 0});
-        set_matrices(prog, vp);
+        mx_set_matrices(prog, vp);
         if (pass == 0) {
             glUniform1f(glGetUniformLocation(prog, "u_envLightIntensity"), 0.0f);
             bind_environment(prog, envTex_);
@@ -357,7 +355,7 @@ MxImage MaterialXRunner::render(int w, int h, const Vec3d& eye, double fovDeg,
                         float(eye[2]));
             glUniform1i(glGetUniformLocation(prog, "u_numActiveLightSources"), int(lights.size()));
             for (size_t i = 0; i < lights.size(); ++i)
-                set_light(prog, int(i), lights[i]);
+                mx_set_light(prog, int(i), lights[i]);
         }
         target(fbo_, colorTex_, w, h);
         glViewport(0, 0, w, h);

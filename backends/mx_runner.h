@@ -29,6 +29,15 @@ struct MxImage {
     std::vector<float> positionWorld; // the fragment's world position per pixel (xyz)
 };
 
+// A 4 x 4 matrix, column-major, as OpenGL reads it.
+using Mat4 = std::array<float, 16>;
+
+// Sets MaterialX's light i (u_lightData[i]) of the current program `program`.
+void mx_set_light(unsigned program, int i, const MxLight& l);
+// Sets MaterialX's matrices: the world matrix and its inverse transpose the identity, and the
+// view-projection matrix.
+void mx_set_matrices(unsigned program, const Mat4& viewProjection);
+
 // The GLSL vertex and fragment shaders MaterialX generates for one material.
 struct MxShaders {
     std::string vertex, fragment;

@@ -50,8 +50,8 @@ void render_one(const LobeBrdf& brdf, const Night& night, const fs::path& exr,
                                  " NaN, infinite or negative BRDF values; nothing written");
     fs::path png = exr;
     png.replace_extension(".png");
-    write_night_images(
-        img, {exr.string(), png.string(), night.view, night.exposure, doc, label, inputs, false});
+    write_night_images(img, {exr.string(), png.string(), night.view, night.exposure, doc, label,
+                             inputs, false, ""});
     std::printf("wrote %s, %s\n", exr.string().c_str(), png.string().c_str());
 }
 

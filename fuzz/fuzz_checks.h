@@ -17,6 +17,9 @@
 //    samples), which must give finite non-negative values;
 //  - mtlx: the bytes are a MaterialX document; parse_mtlx either returns documents whose
 //    parameters are within the table's ranges or throws an InputError naming the file;
+//    outline_mtlx_text (which sends graphs to MaterialX) either outlines it or throws an
+//    InputError naming the file, and a document parse_mtlx reads is no graph and has the
+//    same materials;
 //  - alta: the bytes are an ALTA file; parse_alta either returns samples within the
 //    documented ranges or throws an InputError naming the file;
 //  - ra_table: the bytes are an R_A table (CSV); parse_ra_table either returns entries within
@@ -29,6 +32,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -400,9 +404,26 @@ inline void check_in_range(const retroprism::Params& p, const std::string& what)
     });
 }
 
+// outline_mtlx_text's contract (see the header); nothing when it threw.
+inline std::optional<retroprism::MtlxOutline> check_outline(const std::string& text,
+                                                            const std::string& name) {
+    try {
+        return retroprism::outline_mtlx_text(text, name);
+    } catch (const retroprism::InputError& e) {
+        if (!names(e.what(), name))
+            throw Violation(std::string("outline_mtlx_text's error does not name the file: ") +
+                            e.what());
+    } catch (const std::exception& e) {
+        throw Violation(std::string("outline_mtlx_text threw ") + typeid(e).name() + ": " +
+                        e.what());
+    }
+    return std::nullopt;
+}
+
 inline void check_mtlx(const std::uint8_t* data, size_t size) {
     const std::string name = "fuzz_doc.mtlx";
     const std::string text(reinterpret_cast<const char*>(data), size);
+    const std::optional<retroprism::MtlxOutline> outline = check_outline(text, name);
     retroprism::MtlxDocument doc;
     try {
         doc = retroprism::parse_mtlx(text, name);
@@ -414,6 +435,16 @@ inline void check_mtlx(const std::uint8_t* data, size_t size) {
         throw Violation(std::string("parse_mtlx threw ") + typeid(e).name() + ": " + e.what());
     }
     if (doc.materials.empty()) throw Violation("parse_mtlx returned a document without materials");
+    if (!outline) throw Violation("outline_mtlx_text rejects a document parse_mtlx reads");
+    if (outline->graph())
+        throw Violation("outline_mtlx_text calls a graph a document parse_mtlx reads: " +
+                        outline->graph_description());
+    if (outline->materials.size() != doc.materials.size())
+        throw Violation("outline_mtlx_text and parse_mtlx count different materials");
+    for (size_t k = 0; k < doc.materials.size(); ++k)
+        if (outline->materials[k] != doc.materials[k].name)
+            throw Violation("outline_mtlx_text and parse_mtlx name material " + std::to_string(k) +
+                            " differently");
     for (const retroprism::MtlxMaterial& m : doc.materials) {
         check_in_range(m.params, name + " material " + m.name);
         // The working-space conversion with a converter that scales: its errors name the file.

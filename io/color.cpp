@@ -60,6 +60,16 @@ ColorConverter ocio_color_converter() {
 
 Params document_params(const std::string& path, const std::string& name,
                        std::string* materialName) {
+    const MtlxOutline outline = outline_mtlx(path);
+    if (outline.graph())
+        throw InputError(
+            path + ": a MaterialX graph (" + outline.graph_description() +
+            "): the node's inputs, R_A tables and fits are computed for the chain surfacematerial "
+            "-> surface -> " +
+            kMtlxNodeCategory +
+            " with constant inputs alone; a graph's response depends on the surface point and "
+            "on its other BSDFs, which only MaterialX's shader evaluates (retroprism render "
+            "renders it)");
     const MtlxDocument doc = read_mtlx(path);
     const MtlxMaterial& m = select_material(doc, name);
     if (materialName) *materialName = m.name;

@@ -25,7 +25,9 @@ Color3 to_lin_rec709(const std::string& colorspace, const Color3& c);
 ColorConverter ocio_color_converter();
 
 // The node's parameters of the material `name` (the first when empty) of a MaterialX
-// document, colours converted to lin_rec709. `materialName` receives the material's name.
+// document, colours converted to lin_rec709. `materialName` receives the material's name. A
+// graph (mtlx_reader.h's MtlxOutline::graph()) is an InputError saying what it holds and that
+// only the node's chain is read here.
 Params document_params(const std::string& path, const std::string& name,
                        std::string* materialName = nullptr);
 

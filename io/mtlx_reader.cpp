@@ -431,6 +431,51 @@ MtlxDocument parse_mtlx(const std::string& text, const std::string& name) {
     return doc;
 }
 
+MtlxOutline outline_mtlx_text(const std::string& text, const std::string& name) {
+    const Reader r(text, name);
+    pugi::xml_document xml;
+    const pugi::xml_parse_result res = xml.load_buffer(text.data(), text.size());
+    if (!res) r.fail_at(res.offset, std::string("malformed XML: ") + res.description());
+    const pugi::xml_node root = xml.document_element();
+    if (!root || std::string(root.name()) != "materialx")
+        r.fail_at(0, "expected the root element <materialx version=\"1.39\">");
+    MtlxOutline out;
+    for (pugi::xml_node n : root.children()) {
+        if (n.type() != pugi::node_element) continue;
+        const std::string cat = n.name();
+        if (cat == "surfacematerial") out.materials.push_back(n.attribute("name").value());
+        const bool chain = cat == "surfacematerial" || cat == "surface" || cat == kMtlxNodeCategory;
+        if (!chain) {
+            if (std::find(out.otherCategories.begin(), out.otherCategories.end(), cat) ==
+                out.otherCategories.end())
+                out.otherCategories.push_back(cat);
+            continue;
+        }
+        for (pugi::xml_node input : n.children("input")) {
+            const bool chainLink =
+                (cat == "surfacematerial" &&
+                 std::string(input.attribute("name").value()) == "surfaceshader") ||
+                (cat == "surface" && std::string(input.attribute("name").value()) == "bsdf");
+            if (chainLink) continue;
+            for (const char* a : {"nodename", "nodegraph", "output", "interfacename"})
+                if (input.attribute(a)) out.connectedInputs = true;
+        }
+    }
+    return out;
+}
+
+MtlxOutline outline_mtlx(const std::string& path) {
+    return outline_mtlx_text(read_text_file(path), path);
+}
+
+std::string MtlxOutline::graph_description() const {
+    std::string s;
+    if (!otherCategories.empty()) s = "nodes " + join(otherCategories);
+    if (connectedInputs)
+        s += std::string(s.empty() ? "" : " and ") + "connected inputs of the chain's nodes";
+    return s;
+}
+
 MtlxDocument read_mtlx(const std::string& path) {
     return parse_mtlx(read_text_file(path), path);
 }

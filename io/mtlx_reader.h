@@ -58,6 +58,25 @@ struct MtlxDocument {
 };
 
 MtlxDocument read_mtlx(const std::string& path);
+
+// What a document holds, read without the reader's checks: its materials (surfacematerial
+// names in document order) and what it holds beyond the chain this reader takes: the other
+// top-level element categories (e.g. image, layer, mix, nodegraph; each once, in document
+// order) and whether an input of the chain's nodes is connected to anything other than the
+// chain (nodename, nodegraph, output or interfacename). A document with neither is the
+// reader's (read_mtlx takes it or names what is wrong); one with either is a graph, which real
+// MaterialX renders (backends/mx_night.h). Malformed XML or a root other than <materialx> is an
+// InputError "FILE:LINE:COL: ...".
+struct MtlxOutline {
+    std::vector<std::string> materials;
+    std::vector<std::string> otherCategories;
+    bool connectedInputs = false;
+    bool graph() const { return !otherCategories.empty() || connectedInputs; }
+    // "nodes image, layer, mix" / "connected inputs of the chain's nodes": what makes it a graph.
+    std::string graph_description() const;
+};
+MtlxOutline outline_mtlx(const std::string& path);
+MtlxOutline outline_mtlx_text(const std::string& text, const std::string& name);
 // The same from text in memory; `name` stands for the file in messages.
 MtlxDocument parse_mtlx(const std::string& text, const std::string& name);
 

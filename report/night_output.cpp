@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <utility>
 #include <vector>
 
 #include <unistd.h>
@@ -16,8 +17,6 @@ namespace fs = std::filesystem;
 namespace retroprism {
 
 namespace {
-
-constexpr int kExrChannels = 13;
 
 fs::path temp_name(const fs::path& dst) {
     return dst.parent_path() / ("." + dst.filename().string() + ".tmp" + std::to_string(getpid()));
@@ -36,29 +35,36 @@ std::string lights_description(const NightImage& img, bool fill) {
     return buf;
 }
 
-// The EXR image (RGBA combined, then one layer per lobe) and the linear display RGB.
+// The EXR image (RGBA combined, then one layer per layer present) and the linear display RGB.
 OIIO::ImageBuf exr_image(const NightImage& img, const NightOutput& out,
                          std::vector<float>& display) {
     const size_t n = size_t(img.width) * size_t(img.height);
-    std::vector<float> exr(n * size_t(kExrChannels));
+    const auto present = night_layers(img);
+    const size_t channels = 4 + 3 * present.size();
+    std::vector<float> exr(n * channels);
     display.assign(n * 3, 0.0f);
     for (size_t i = 0; i < n; ++i) {
-        float* px = &exr[i * size_t(kExrChannels)];
+        float* px = &exr[i * channels];
         for (size_t c = 0; c < 3; ++c) {
-            const float s = img.surface[3 * i + c], r = img.retro[3 * i + c],
-                        d = img.diffuse[3 * i + c];
-            px[c] = s + r + d;
-            px[4 + c] = s;
-            px[7 + c] = r;
-            px[10 + c] = d;
-            display[3 * i + c] = s + r + d;
+            float sum = 0;
+            for (size_t l = 0; l < present.size(); ++l) {
+                const float v = (*present[l].second)[3 * i + c];
+                px[4 + 3 * l + c] = v;
+                sum += v;
+            }
+            px[c] = sum;
+            display[3 * i + c] = sum;
         }
         px[3] = img.alpha[i];
     }
-    OIIO::ImageSpec spec(img.width, img.height, kExrChannels, OIIO::TypeDesc::FLOAT);
-    spec.channelnames = {"R",         "G",         "B",        "A",       "surface.R",
-                         "surface.G", "surface.B", "retro.R",  "retro.G", "retro.B",
-                         "diffuse.R", "diffuse.G", "diffuse.B"};
+    OIIO::ImageSpec spec(img.width, img.height, int(channels), OIIO::TypeDesc::FLOAT);
+    spec.channelnames = {"R", "G", "B", "A"};
+    std::string sumText;
+    for (const auto& l : present) {
+        for (const char* c : {".R", ".G", ".B"})
+            spec.channelnames.push_back(std::string(l.first) + c);
+        sumText += (sumText.empty() ? "" : " + ") + std::string(l.first);
+    }
     spec.alpha_channel = 3;
     spec.attribute("compression", "zip");
     spec.attribute("ImageDescription",
@@ -66,10 +72,13 @@ OIIO::ImageBuf exr_image(const NightImage& img, const NightOutput& out,
                        out.material + " of " + out.document);
     spec.attribute("retroprism:document", out.document);
     spec.attribute("retroprism:material", out.material);
-    spec.attribute("retroprism:inputs", params_to_json(out.inputs).dump());
+    spec.attribute("retroprism:inputs", out.inputsDescription.empty()
+                                            ? params_to_json(out.inputs).dump()
+                                            : out.inputsDescription);
     spec.attribute("retroprism:quantity",
                    "linear Rec.709 radiance in scene units: f cos(theta_i) I / d^2 summed over the "
-                   "lights; R,G,B = surface + retro + diffuse; A = coverage");
+                   "lights; R,G,B = " +
+                       sumText + "; A = coverage");
     spec.attribute("retroprism:lights", lights_description(img, out.fill));
     spec.attribute("retroprism:display", display_description(out.view, out.exposureEv));
     OIIO::ImageBuf buf(spec);
@@ -78,6 +87,15 @@ OIIO::ImageBuf exr_image(const NightImage& img, const NightOutput& out,
 }
 
 } // namespace
+
+std::vector<std::pair<const char*, const std::vector<float>*>> night_layers(const NightImage& img) {
+    std::vector<std::pair<const char*, const std::vector<float>*>> out;
+    for (const auto& l :
+         {std::make_pair("surface", &img.surface), std::make_pair("retro", &img.retro),
+          std::make_pair("diffuse", &img.diffuse), std::make_pair("other", &img.other)})
+        if (!l.second->empty()) out.push_back(l);
+    return out;
+}
 
 void write_night_images(const NightImage& img, const NightOutput& out) {
     std::vector<float> display;

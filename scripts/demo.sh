@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
-# The main job on the bundled examples: sets up, builds, renders the example MaterialX document
-# under a headlight (out/white_sign.exr with a layer per lobe, out/white_sign.png) and prints
-# its R_A table; plots every example material's BRDF slices into out/demo/; fits the node and the
+# The main job on the bundled examples: sets up, builds, renders the bundled sign document under
+# a headlight through MaterialX's shader (its legend a dark film mixed with the white sheeting
+# through an image, under a clear overlay: out/legend_sign.exr with a layer per lobe and the
+# rest of the graph, out/legend_sign.png) and prints its sheeting's R_A table (white_sign.mtlx);
+# plots every example material's BRDF slices into out/demo/; fits the node and the
 # MaterialX-style GGX to the 3M Diamond Grade 983 R_A table (out/dg983_white_fit.png, the same
 # fit as the checked-in preset examples/sheeting/dg983_white.mtlx) and sets the preset against
 # that GGX: night previews at the same exposure and the sign's luminance for a driver
@@ -12,7 +14,8 @@ bash "$root/scripts/build.sh"
 cli="${BUILD_DIR:-$root/build}/cli/retroprism"
 # render writes into an existing folder only; a clean checkout has no out/.
 mkdir -p "$root/out"
-"$cli" render "$root/examples/documents/white_sign.mtlx" -o "$root/out/white_sign.exr" "$@"
+"$cli" render "$root/examples/documents/legend_sign.mtlx" -o "$root/out/legend_sign.exr" "$@"
+"$cli" ra --document "$root/examples/documents/white_sign.mtlx"
 "$cli" demo --materials "$root/examples/materials" --out "$root/out/demo"
 sheeting="$root/examples/sheeting"
 "$cli" fit --ra "$sheeting/dg983_white.csv" --plot "$root/out/dg983_white_fit.png"

@@ -8,7 +8,7 @@ packages=(
   build-essential cmake ninja-build pkg-config git
   libopenimageio-dev openimageio-tools libopenexr-dev libimath-dev
   nlohmann-json3-dev libpugixml-dev catch2 libglm-dev libopencolorio-dev
-  clang-format universal-ctags libbenchmark-dev
+  clang-format universal-ctags libbenchmark-dev fonts-dejavu-core
   libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri glslang-tools spirv-tools
   clang libclang-rt-14-dev llvm
   pybind11-dev python3-dev python3-numpy python3-pytest

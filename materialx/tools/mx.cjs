@@ -9,6 +9,14 @@
 //       msl, osl, mdl) as MATERIAL.T.vert and .frag (OSL and MDL: MATERIAL.osl, MATERIAL.mdl);
 //       --portable loads the library without its genglsl implementation, so that the GLSL
 //       targets too use the portable nodegraph (how its GLSL is measured on OpenGL).
+//       For glsl, MATERIAL.glsl.json beside the shaders: the pixel stage's public uniforms
+//       (variable, type, the element path, the value; for filename inputs the value with the
+//       document's fileprefix applied, for colour inputs their active colour space) and the
+//       categories of the nodes the material reaches, so that a renderer can bind textures
+//       and tell which nodes a shader holds.
+//       Before generating, each document is checked: every node must have a nodedef (an
+//       unknown node or a node whose inputs match no signature), the document must pass
+//       MaterialX's validate(); the message names the element and the file.
 //
 // Exit status 0 when everything succeeded; messages name the document and what failed.
 'use strict';
@@ -114,6 +122,79 @@ function writeShader(shader, base, hw) {
   return base;
 }
 
+// An element as MaterialX prints it in its messages: <category name="...">.
+function describe(e) {
+  return `<${e.getCategory()} name="${e.getName()}">`;
+}
+
+// What is wrong with a document before any shader is generated: nodes without a nodedef (at the
+// top level and in node graphs), then MaterialX's own validation message (type mismatches,
+// dangling connections). Cycles are reported by the generator ("Encountered cycle at element").
+function documentProblems(doc) {
+  const problems = [];
+  const graphs = [doc].concat(doc.getNodeGraphs().filter((g) => !g.hasNodeDefString()));
+  for (const g of graphs) {
+    for (const n of g.getNodes()) {
+      if (n.getNodeDef()) continue;
+      const where = g === doc ? '' : ` in ${describe(g)}`;
+      const known = doc.getMatchingNodeDefs(n.getCategory()).length > 0;
+      problems.push(known
+        ? `${describe(n)}${where}: no nodedef of '${n.getCategory()}' matches its type '${n.getType()}' and inputs`
+        : `${describe(n)}${where}: unknown node category '${n.getCategory()}' (no nodedef in the standard library or rp_pbrlib)`);
+    }
+  }
+  const result = {};
+  if (!doc.validate(result)) {
+    const text = String(result.message || 'invalid').trim();
+    for (const line of text.split('\n')) if (line.length > 0 && !problems.some((p) => p.includes(line))) problems.push(line);
+  }
+  return problems;
+}
+
+// The pixel stage's public uniforms of a generated shader and the node categories the material
+// reaches, as JSON (see the header).
+function writeManifest(doc, material, shader, file) {
+  const uniforms = [];
+  const block = shader.getStage('pixel').getUniformBlocks().PublicUniforms;
+  for (let i = 0; i < block.size(); i++) {
+    const port = block.get(i);
+    const entry = { variable: port.getVariable(), type: port.getType().getName(), path: port.getPath() };
+    const value = port.getValue();
+    entry.value = value ? value.getValueString() : '';
+    // Inputs the document leaves at their defaults have a path but no element: their node is
+    // the path's parent.
+    const slash = entry.path.lastIndexOf('/');
+    const node = slash > 0 ? doc.getDescendant(entry.path.substring(0, slash)) : null;
+    if (node) {
+      const element = doc.getDescendant(entry.path);
+      if (element && entry.type === 'filename') entry.value = element.getResolvedValueString();
+      entry.colorspace = (element || node).getActiveColorSpace();
+      entry.node = node.getName();
+      entry.category = node.getCategory();
+      entry.nodetype = node.getType();
+    }
+    uniforms.push(entry);
+  }
+  const categories = new Set();
+  const seen = new Set();
+  const visit = (node) => {
+    if (!node || seen.has(node.getNamePath())) return;
+    seen.add(node.getNamePath());
+    categories.add(node.getCategory());
+    for (const input of node.getInputs()) {
+      const up = input.getConnectedNode();
+      if (up) visit(up);
+      if (input.hasNodeGraphString()) {
+        const g = doc.getNodeGraph(input.getNodeGraphString());
+        if (g) for (const n of g.getNodes()) visit(n);
+      }
+    }
+  };
+  visit(material);
+  const manifest = { material: material.getName(), uniforms, categories: [...categories].sort() };
+  fs.writeFileSync(file, JSON.stringify(manifest, null, 1) + '\n');
+}
+
 // Writes the shaders of every material of one document for one target; the failures.
 async function generateDocument(mx, file, name, hw, gen, ctx, stdlib, lib, outDir) {
   let doc;
@@ -121,6 +202,11 @@ async function generateDocument(mx, file, name, hw, gen, ctx, stdlib, lib, outDi
     doc = await readDocument(mx, file, stdlib, lib);
   } catch (e) {
     console.log(`${file}: error: ${message(mx, e)}`);
+    return 1;
+  }
+  const problems = documentProblems(doc);
+  if (problems.length > 0) {
+    for (const p of problems) console.log(`${file}: error: ${p}`);
     return 1;
   }
   const materials = doc.getMaterialNodes();
@@ -133,6 +219,7 @@ async function generateDocument(mx, file, name, hw, gen, ctx, stdlib, lib, outDi
     try {
       const shader = gen.generate(m.getName(), m, ctx);
       const written = writeShader(shader, path.join(outDir, `${m.getName()}.${name}`), hw);
+      if (name === 'glsl') writeManifest(doc, m, shader, path.join(outDir, `${m.getName()}.glsl.json`));
       console.log(`${file}: ${m.getName()} ${name}: generated ${written}`);
     } catch (e) {
       console.log(`${file}: ${m.getName()} ${name}: error: ${message(mx, e)}`);

@@ -8,6 +8,8 @@
 #include <fstream>
 #include <string>
 
+#include <unistd.h>
+
 #include <nlohmann/json.hpp>
 
 #include "backend.h"
@@ -24,16 +26,22 @@ namespace {
 using Run = rptest::CommandRun;
 using rptest::contains;
 
+// A temporary path named with the process id: test runs of other checkouts share the folder.
+fs::path temp_path(const std::string& name) {
+    return fs::temp_directory_path() /
+           ("retroprism_test_" + std::to_string(::getpid()) + "_" + name);
+}
+
 // The command with `args`, its standard input from stdinText when that is not empty.
 Run run(const std::string& args, const std::string& stdinText = "") {
     if (stdinText.empty()) return rptest::run_cli(args);
-    const fs::path in = fs::temp_directory_path() / "retroprism_test_stdin.json";
+    const fs::path in = temp_path("stdin.json");
     std::ofstream(in) << stdinText;
     return rptest::run_cli(args + " < " + in.string());
 }
 
 fs::path write_temp(const std::string& name, const std::string& text) {
-    fs::path p = fs::temp_directory_path() / ("retroprism_test_" + name);
+    fs::path p = temp_path(name);
     std::ofstream(p) << text;
     return p;
 }
@@ -171,7 +179,7 @@ TEST_CASE("era and albedo commands", "[cli]") {
 }
 
 TEST_CASE("demo writes every material's plots, or nothing on a bad material", "[cli]") {
-    const fs::path out = fs::temp_directory_path() / "retroprism_test_demo";
+    const fs::path out = temp_path("demo");
     fs::remove_all(out);
     Run good = run("demo --materials " + std::string(RP_SOURCE_DIR) + "/examples/materials --out " +
                    out.string());
@@ -184,12 +192,12 @@ TEST_CASE("demo writes every material's plots, or nothing on a bad material", "[
     CHECK(exr >= 5);
     CHECK(png >= 5);
 
-    const fs::path mats = fs::temp_directory_path() / "retroprism_test_bad_materials";
+    const fs::path mats = temp_path("bad_materials");
     fs::remove_all(mats);
     fs::create_directories(mats);
     std::ofstream(mats / "good.json") << R"({"roughness": 0.1})";
     std::ofstream(mats / "bad.json") << R"({"roughness": 1.5})";
-    const fs::path out2 = fs::temp_directory_path() / "retroprism_test_demo_bad";
+    const fs::path out2 = temp_path("demo_bad");
     fs::remove_all(out2);
     Run bad = run("demo --materials " + mats.string() + " --out " + out2.string());
     CHECK(bad.status != 0);
@@ -215,7 +223,7 @@ TEST_CASE("The README's inputs table is the parameter table", "[cli]") {
 }
 
 TEST_CASE("export writes the MaterialX library as checked in and the GLSL as generated", "[cli]") {
-    const fs::path out = fs::temp_directory_path() / "retroprism_test_export";
+    const fs::path out = temp_path("export");
     fs::remove_all(out);
     Run r = run("export --out " + out.string());
     REQUIRE(r.status == 0);
@@ -273,7 +281,7 @@ TEST_CASE("bench --json prints the trade table's rows", "[cli]") {
 }
 
 TEST_CASE("export --max-error picks the cheapest variant that fits the document", "[cli]") {
-    const fs::path out = fs::temp_directory_path() / "retroprism_test_export_choice";
+    const fs::path out = temp_path("export_choice");
     fs::remove_all(out);
     const std::string doc = std::string(RP_SOURCE_DIR) + "/examples/documents/white_sign.mtlx";
     Run r = run("export --out " + out.string() + " --document " + doc + " --max-error 0");
