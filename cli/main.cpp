@@ -27,7 +27,7 @@ const Command kCommands[] = {
      "per-lobe and total directional albedo"},
     {"demo", cmd_demo, "[--out DIR] [--materials DIR]",
      "BRDF slice plots of the bundled example materials"},
-    {"params", cmd_params, "", "the node's inputs as a Markdown table"},
+    {"params", cmd_params, "[--json]", "the node's inputs as a Markdown table or JSON"},
     {"render", cmd_render, "DOC.mtlx -o OUT.exr [--material NAME] [--fill] ...\n",
      "night preview (EXR per lobe + PNG) and R_A table"},
     {"ra", cmd_ra,
@@ -42,6 +42,8 @@ const Command kCommands[] = {
      "microgeometry Monte Carlo: the ground-truth BRDF"},
     {"check", cmd_check, "[--backend NAME] [--stress]", "cross-check backends against cpp-double"},
     {"export", cmd_export, "--out DIR", "the MaterialX library and GLSL for other pipelines"},
+    {"view", cmd_view, "[DOC.mtlx] [--port N] [--no-open]",
+     "the look-dev page: the node in WebGL2, served on localhost"},
     {"bench", cmd_bench, "[--json] [--plot OUT.png]", "the speed/accuracy trade table"},
 };
 

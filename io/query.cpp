@@ -246,4 +246,39 @@ std::string params_markdown() {
     return out;
 }
 
+json params_table_json() {
+    const json defaults = params_to_json(Params{});
+    json table = json::array();
+    for (const ParamInfo& i : param_table()) {
+        json e = {{"name", i.name}, {"default", defaults.at(i.name)}, {"doc", i.doc}};
+        switch (i.type) {
+        case ParamType::Float:
+            e["type"] = "float";
+            e["min"] = i.min_value;
+            e["max"] = i.max_value;
+            break;
+        case ParamType::Color:
+            e["type"] = "color3";
+            e["min"] = 0.0;
+            e["max"] = 1.0;
+            break;
+        case ParamType::Enum:
+            e["type"] = "string";
+            e["values"] = enum_values(i);
+            e["uniform"] = true;
+            break;
+        case ParamType::Bool:
+            e["type"] = "boolean";
+            e["uniform"] = true;
+            break;
+        case ParamType::Vector:
+            e["type"] = "vector3";
+            e["geomprop"] = i.geomprop;
+            break;
+        }
+        table.push_back(e);
+    }
+    return table;
+}
+
 } // namespace retroprism

@@ -41,4 +41,11 @@ Query parse_query(const nlohmann::json& j, const std::string& source);
 // README's table is this text.
 std::string params_markdown();
 
+// The parameter table as JSON, an array in table order of {"name", "type" (MaterialX's: float,
+// color3, string, boolean, vector3), "default" (as params_to_json writes it), "doc", and for
+// floats and colours "min" and "max" (per channel), for enums "values", for vectors
+// "geomprop"; "uniform": true for enums and booleans}: what the look-dev page builds its
+// controls from (`retroprism params --json`).
+nlohmann::json params_table_json();
+
 } // namespace retroprism

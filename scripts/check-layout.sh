@@ -12,7 +12,7 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
 max_function=150
 max_cli=3000
-libraries="nodes util io glsl_gen backends sim analysis report bench python"
+libraries="nodes util io glsl_gen backends sim analysis report bench python web"
 status=0
 
 sources=$(git ls-files '*.cpp' '*.h' '*.inc' | grep -v '^nodes/generated/' || true)

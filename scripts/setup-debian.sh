@@ -12,6 +12,7 @@ packages=(
   libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri glslang-tools spirv-tools
   clang libclang-rt-14-dev llvm
   pybind11-dev python3-dev python3-numpy python3-pytest
+  chromium
 )
 
 # Node.js runs the MaterialX tool of the tests (any Node.js >= 18: Debian's or one present).
@@ -45,4 +46,12 @@ tools="$root/materialx/tools"
 if [ ! -f "$tools/node_modules/@needle-tools/materialx/bin/JsMaterialXGenShader.wasm" ]; then
   echo "setup: npm ci in materialx/tools"
   (cd "$tools" && npm ci --no-audit --no-fund --loglevel=error)
+fi
+
+# playwright-core (pinned by tests/web/package-lock.json; it downloads no browser) drives
+# Debian's chromium over the look-dev page in the browser test (ctest entry web).
+web_tests="$root/tests/web"
+if [ ! -f "$web_tests/node_modules/playwright-core/package.json" ]; then
+  echo "setup: npm ci in tests/web"
+  (cd "$web_tests" && npm ci --no-audit --no-fund --loglevel=error)
 fi
