@@ -168,29 +168,38 @@ const PolyFit& fit_fdr() {
     return fit;
 }
 
-const RetroLobeFit& fit_retro_lobe() {
-    static const RetroLobeFit fit = [] {
-        // GGX about V with roughness s alpha_o / 2 at tan(theta_h) = tan(theta' / 2) ~ tan
-        // theta' / 2, over the Beckmann lobe's peak value: (1 / s^2) (1 + x / s^2)^-2, x =
-        // tan^2 theta' / alpha_o^2; the best scale for width s makes the largest and smallest
-        // ratios to exp(-x) equally far from 1.
-        RetroLobeFit best;
-        best.max_error = 1e300;
-        for (int k = 0; k <= 20000; ++k) {
-            const double s = 0.5 + 2.0 * k / 20000;
-            double lo = 1e300, hi = 0;
-            for (int i = 0; i <= 1000; ++i) {
-                const double x = kRetroFitRange * i / 1000;
-                const double r = std::pow(1 + x / (s * s), -2) / (s * s) / std::exp(-x);
-                lo = std::min(lo, r);
-                hi = std::max(hi, r);
-            }
-            const double scale = 2 / (lo + hi);
-            const double err = std::max(scale * hi - 1, 1 - scale * lo);
-            if (err < best.max_error) best = {s, scale, err};
+namespace {
+
+// The search of fit_retro_lobe, a plain function: GCC takes a lambda that initialises a
+// static const for a constant expression and runs its 2e7 pow/exp steps in the constant
+// evaluator before giving up (17 s of this file's compile).
+RetroLobeFit search_retro_lobe() {
+    // GGX about V with roughness s alpha_o / 2 at tan(theta_h) = tan(theta' / 2) ~ tan
+    // theta' / 2, over the Beckmann lobe's peak value: (1 / s^2) (1 + x / s^2)^-2, x =
+    // tan^2 theta' / alpha_o^2; the best scale for width s makes the largest and smallest
+    // ratios to exp(-x) equally far from 1.
+    RetroLobeFit best;
+    best.max_error = 1e300;
+    for (int k = 0; k <= 20000; ++k) {
+        const double s = 0.5 + 2.0 * k / 20000;
+        double lo = 1e300, hi = 0;
+        for (int i = 0; i <= 1000; ++i) {
+            const double x = kRetroFitRange * i / 1000;
+            const double r = std::pow(1 + x / (s * s), -2) / (s * s) / std::exp(-x);
+            lo = std::min(lo, r);
+            hi = std::max(hi, r);
         }
-        return best;
-    }();
+        const double scale = 2 / (lo + hi);
+        const double err = std::max(scale * hi - 1, 1 - scale * lo);
+        if (err < best.max_error) best = {s, scale, err};
+    }
+    return best;
+}
+
+} // namespace
+
+const RetroLobeFit& fit_retro_lobe() {
+    static const RetroLobeFit fit = search_retro_lobe();
     return fit;
 }
 
