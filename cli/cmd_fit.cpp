@@ -1,7 +1,7 @@
 // cmd_fit.cpp: `retroprism fit DATA.dat`: fits the node, and the MaterialX-style retroreflective
 // GGX baseline, to measured BRDF x cos(theta_v) samples in the ALTA text format, and reports both
 // side by side. The model, objective, weighting, instrument blur and optimiser are described in
-// fitting.h; the baseline's exact formula in nodes/baselines.h.
+// fitting.h; the baseline's exact formula in nodes/mrm_core.inc (nodes/baselines.h).
 //
 // Output: a text report (parameters, errors, per-theta_l errors and peak heights, runtime), or
 // with --json exactly {"params": {...}, "rel_rms": x, "log_rms": y, "mrm": {"params": {...},
@@ -74,6 +74,7 @@ json mrm_json(const baselines::RetroreflectiveGGX& m) {
     j["roughness"] = m.roughness;
     j["ior"] = m.ior;
     j["specular"] = m.specular;
+    j["tint"] = {m.tint.x, m.tint.y, m.tint.z};
     j["color"] = {m.color.x, m.color.y, m.color.z};
     return j;
 }
@@ -356,7 +357,8 @@ int cmd_fit(int argc, const char** argv) {
              "log space")
         .usage("retroprism fit DATA.dat [--json] [--plot OUT.png] [--resolution FWHM_DEG] [--ior "
                "ETA] [--param-out NAME]\n       retroprism fit --ra TABLE.csv [--json] [--plot "
-               "OUT.png] [--mtlx OUT.mtlx [--name NAME]] [--material BASE.json]\n       retroprism fit "
+               "OUT.png] [--mtlx OUT.mtlx [--name NAME]] [--material BASE.json]\n       retroprism "
+               "fit "
                "--ra TABLE.csv --baseline-only [--json]");
     std::string file;
     ap.arg("filename").hidden().action([&](OIIO::cspan<const char*> a) { file = a[0]; });

@@ -57,10 +57,16 @@ class Handler(http.server.SimpleHTTPRequestHandler):
                     capture_output=True, text=True, timeout=FIT_SECONDS)
             except subprocess.TimeoutExpired:
                 return self.reply(500, {"error": f"the baseline's fit took over {FIT_SECONDS} s"})
+            except OSError as e:
+                return self.reply(500, {"error": f"{self.retroprism}: cannot run it to fit the baseline: {e.strerror}"})
         if run.returncode != 0:
             text = run.stderr.strip().replace(path, "the page's R_A table")
             return self.reply(400, {"error": text or f"retroprism fit exited with {run.returncode}"})
-        return self.reply(200, json.loads(run.stdout))
+        try:
+            answer = json.loads(run.stdout)
+        except ValueError:
+            return self.reply(500, {"error": f"retroprism fit --json printed no JSON: {run.stdout[:200]!r}"})
+        return self.reply(200, answer)
 
 
 def main():
@@ -71,8 +77,15 @@ def main():
     args = parser.parse_args()
     Handler.retroprism = args.retroprism
     handler = functools.partial(Handler, directory=args.directory)
-    with http.server.ThreadingHTTPServer(("127.0.0.1", args.port), handler) as server:
-        server.serve_forever()
+    try:
+        server = http.server.ThreadingHTTPServer(("127.0.0.1", args.port), handler)
+    except OSError as e:
+        raise SystemExit(f"serve.py: cannot listen on 127.0.0.1:{args.port}: {e.strerror}")
+    with server:
+        try:
+            server.serve_forever()
+        except KeyboardInterrupt:
+            pass
 
 
 if __name__ == "__main__":
