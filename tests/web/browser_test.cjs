@@ -272,8 +272,11 @@ function luminanceTable(rgb, w) {
 async function switchBaseline(page, on) {
   const done = await page.evaluate(() => window.retroprism.baselineDone);
   const t0 = Date.now();
-  if (on) await page.locator('#baseline').check();
-  else await page.locator('#baseline').uncheck();
+  // A click toggles it; the page may uncheck it again (a refused fit), which check() would
+  // take for a failed click.
+  const box = page.locator('#baseline');
+  if ((await box.isChecked()) === on) throw new Error(`the baseline switch is already ${on ? 'on' : 'off'}`);
+  await box.click();
   await page.waitForFunction((n) => window.retroprism.baselineDone > n, done, { polling: 100, timeout: 300000 });
   const seconds = (Date.now() - t0) / 1000;
   return page.evaluate((s) => ({
