@@ -284,7 +284,7 @@ async function switchBaseline(page, on) {
     baseline: window.retroprism.baseline,
     error: window.retroprism.error,
     checked: document.getElementById('baseline').checked,
-    controlsDisabled: document.getElementById('input-ior').disabled,
+    controlsDisabled: document.getElementById('input-ior').matches(':disabled'),
     timings: window.retroprism.timings,
   }), seconds);
 }
