@@ -1,7 +1,7 @@
 // cmd_fit.cpp: `retroprism fit DATA.dat`: fits the node, and the MaterialX-style retroreflective
 // GGX baseline, to measured BRDF x cos(theta_v) samples in the ALTA text format, and reports both
 // side by side. The model, objective, weighting, instrument blur and optimiser are described in
-// fitting.h; the baseline's exact formula in nodes/baselines.h.
+// fitting.h; the baseline's exact formula in nodes/mrm_core.inc (nodes/baselines.h).
 //
 // Output: a text report (parameters, errors, per-theta_l errors and peak heights, runtime), or
 // with --json exactly {"params": {...}, "rel_rms": x, "log_rms": y, "mrm": {"params": {...},
@@ -14,7 +14,9 @@
 // {"table", "fitted", "params", "log_rms", "max_error", "entries": [...], "mrm": {"params",
 // "log_rms", "max_error"}}; --plot OUT.png R_A against observation angle per entrance angle;
 // --mtlx OUT.mtlx [--name NAME] a MaterialX document of the fitted node naming the table and
-// the fit's errors.
+// the fit's errors. --baseline-only fits the baseline alone (the look-dev page of `retroprism
+// view` asks its server for it): --json prints {"table", "mrm": {"params", "log_rms",
+// "max_error", "entries": [...]}}.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -72,6 +74,7 @@ json mrm_json(const baselines::RetroreflectiveGGX& m) {
     j["roughness"] = m.roughness;
     j["ior"] = m.ior;
     j["specular"] = m.specular;
+    j["tint"] = {m.tint.x, m.tint.y, m.tint.z};
     j["color"] = {m.color.x, m.color.y, m.color.z};
     return j;
 }
@@ -175,6 +178,7 @@ void print_report(const FitData& d, const AltaData& alta, const FitOptions& o, c
 struct RaFitOutputs {
     std::string plot, mtlx, name;
     bool json = false;
+    bool baselineOnly = false;
 };
 
 std::string fitted_value(const Params& p, const std::string& name) {
@@ -222,6 +226,22 @@ std::vector<std::string> document_comment(const RaMeasurements& t, const RaNodeF
     return c;
 }
 
+// The table's entry i as JSON: where it was measured and what it measured.
+json entry_json(const RaEntry& e) {
+    return {{"line", e.line},
+            {"observation_deg", e.observation_deg},
+            {"entrance_deg", e.entrance_deg},
+            {"rotation_deg", e.rotation_deg ? json(*e.rotation_deg) : json()},
+            {"presentation_deg", e.presentation_deg},
+            {"ra", e.ra}};
+}
+
+json mrm_fit_json(const RaMrmFit& mf) {
+    return {{"params", mrm_json(mf.model)},
+            {"log_rms", mf.report.log_rms},
+            {"max_error", mf.report.max_error}};
+}
+
 json ra_json(const RaMeasurements& t, const RaNodeFit& nf, const RaMrmFit& mf) {
     json j = json::object();
     j["table"] = t.file;
@@ -231,26 +251,47 @@ json ra_json(const RaMeasurements& t, const RaNodeFit& nf, const RaMrmFit& mf) {
     j["max_error"] = nf.report.max_error;
     json entries = json::array();
     for (size_t i = 0; i < t.entries.size(); ++i) {
-        const RaEntry& e = t.entries[i];
-        entries.push_back({{"line", e.line},
-                           {"observation_deg", e.observation_deg},
-                           {"entrance_deg", e.entrance_deg},
-                           {"rotation_deg", e.rotation_deg ? json(*e.rotation_deg) : json()},
-                           {"presentation_deg", e.presentation_deg},
-                           {"ra", e.ra},
-                           {"node", nf.report.model[i]},
-                           {"node_error", nf.report.error[i]},
-                           {"mrm", mf.report.model[i]},
-                           {"mrm_error", mf.report.error[i]}});
+        json e = entry_json(t.entries[i]);
+        e["node"] = nf.report.model[i];
+        e["node_error"] = nf.report.error[i];
+        e["mrm"] = mf.report.model[i];
+        e["mrm_error"] = mf.report.error[i];
+        entries.push_back(e);
     }
     j["entries"] = entries;
-    j["mrm"] = {{"params", mrm_json(mf.model)},
-                {"log_rms", mf.report.log_rms},
-                {"max_error", mf.report.max_error}};
+    j["mrm"] = mrm_fit_json(mf);
     return j;
 }
 
+// --baseline-only: the baseline alone, its parameters and its R_A at every entry.
+int fit_ra_baseline(const std::string& file, bool asJson) {
+    const RaMeasurements t = read_ra_table(file);
+    const RaMrmFit mf = fit_ra_mrm(t);
+    if (asJson) {
+        json j = json::object();
+        j["table"] = t.file;
+        j["mrm"] = mrm_fit_json(mf);
+        json entries = json::array();
+        for (size_t i = 0; i < t.entries.size(); ++i) {
+            json e = entry_json(t.entries[i]);
+            e["mrm"] = mf.report.model[i];
+            e["mrm_error"] = mf.report.error[i];
+            entries.push_back(e);
+        }
+        j["mrm"]["entries"] = entries;
+        std::printf("%s\n", j.dump().c_str());
+        return 0;
+    }
+    std::printf("table: %s (%zu rows), R_A [cd lx^-1 m^-2]\n", t.file.c_str(), t.entries.size());
+    std::printf("mrm (retroreflective GGX + Lambert): roughness %.6g (GGX), ior %.6g, specular "
+                "%.6g\n\n",
+                mf.model.roughness, mf.model.ior, mf.model.specular);
+    print_ra_comparison(t, {{"mrm", mf.report.model}}, stdout);
+    return 0;
+}
+
 int fit_ra_table(const std::string& file, const Params& base, const RaFitOutputs& out) {
+    if (out.baselineOnly) return fit_ra_baseline(file, out.json);
     const auto t0 = std::chrono::steady_clock::now();
     const RaMeasurements t = read_ra_table(file);
     const RaNodeFit nf = fit_ra_node(t, base);
@@ -316,7 +357,9 @@ int cmd_fit(int argc, const char** argv) {
              "log space")
         .usage("retroprism fit DATA.dat [--json] [--plot OUT.png] [--resolution FWHM_DEG] [--ior "
                "ETA] [--param-out NAME]\n       retroprism fit --ra TABLE.csv [--json] [--plot "
-               "OUT.png] [--mtlx OUT.mtlx [--name NAME]] [--material BASE.json]");
+               "OUT.png] [--mtlx OUT.mtlx [--name NAME]] [--material BASE.json]\n       retroprism "
+               "fit "
+               "--ra TABLE.csv --baseline-only [--json]");
     std::string file;
     ap.arg("filename").hidden().action([&](OIIO::cspan<const char*> a) { file = a[0]; });
     ap.arg("--json")
@@ -341,6 +384,10 @@ int cmd_fit(int argc, const char** argv) {
     ap.arg("--name NAME").help("--ra: the material's name in --mtlx (default: its file stem)");
     ap.arg("--material FILE")
         .help("--ra: the inputs not fitted, as a JSON material (default: the node's defaults)");
+    ap.arg("--baseline-only")
+        .help("--ra: fit only the MaterialX-style GGX baseline (with --json: {\"table\", "
+              "\"mrm\": {\"params\", \"log_rms\", \"max_error\", \"entries\"}})")
+        .store_true();
     int status = 0;
     if (!parse_command_args(ap, argc, argv, status)) return status;
     const std::string plotPath = ap["plot"].get<std::string>();
@@ -356,6 +403,12 @@ int cmd_fit(int argc, const char** argv) {
         RaFitOutputs out;
         out.plot = plotPath;
         out.json = ap["json"].get<int>() != 0;
+        out.baselineOnly = ap["baseline-only"].get<int>() != 0;
+        if (out.baselineOnly)
+            for (const char* option : {"plot", "mtlx", "name", "material"})
+                if (!ap[option].get<std::string>().empty())
+                    throw InputError(std::string("--") + option +
+                                     " goes with the node's fit, not --baseline-only");
         out.mtlx = ap["mtlx"].get<std::string>();
         out.name = ap["name"].get<std::string>();
         require_folder("--mtlx", out.mtlx);
@@ -368,6 +421,8 @@ int cmd_fit(int argc, const char** argv) {
     for (const char* option : {"mtlx", "name", "material"})
         if (!ap[option].get<std::string>().empty())
             throw InputError(std::string("--") + option + " goes with --ra TABLE.csv");
+    if (ap["baseline-only"].get<int>())
+        throw InputError("--baseline-only goes with --ra TABLE.csv");
     if (file.empty())
         throw InputError("fit: give a data file in the ALTA text format, or --ra TABLE.csv");
 

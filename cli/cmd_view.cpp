@@ -1,5 +1,6 @@
 // cmd_view.cpp: `retroprism view [DOC.mtlx]`: serves the look-dev page (web/site.h) on
-// localhost and opens it in the browser when there is a desktop.
+// localhost with web/serve.py, which runs this executable to fit the page's GGX baseline, and
+// opens it in the browser when there is a desktop.
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -9,6 +10,7 @@
 
 #include "color.h"
 #include "commands.h"
+#include "embedded_files.h"
 #include "error.h"
 #include "parse.h"
 #include "paths.h"
@@ -23,8 +25,10 @@ int cmd_view(int argc, const char** argv) {
     ap.intro("retroprism view: the look-dev page in the browser: the node's MaterialX shader "
              "(ESSL, generated in the page by MaterialX's WebAssembly build) in WebGL2, the night "
              "scene of `retroprism render`, controls for every input, the R_A table computed by "
-             "the shader, export as .mtlx. Serves it on 127.0.0.1 with Python's http.server "
-             "until interrupted")
+             "the shader, export as .mtlx, a switch to the MaterialX-style GGX baseline fitted "
+             "to the node's R_A table. Serves it on 127.0.0.1 with web/serve.py (Python's "
+             "http.server, and POST /fit-baseline, which runs `retroprism fit --ra TABLE "
+             "--baseline-only --json`) until interrupted")
         .usage("retroprism view [DOC.mtlx] [--port N] [--no-open]");
     std::string doc;
     ap.arg("filename").hidden().action([&](OIIO::cspan<const char*> a) { doc = a[0]; });
@@ -39,10 +43,10 @@ int cmd_view(int argc, const char** argv) {
 
     std::string tmpl = (fs::temp_directory_path() / "retroprism-view-XXXXXX").string();
     if (!mkdtemp(tmpl.data())) throw std::runtime_error("cannot create a folder in " + tmpl);
-    const Site site = make_site(data_dir(), tmpl + "/site", doc);
+    const Site site = make_site(data_dir(), tmpl + "/site", doc, embedded_variant("mrm_ggx"));
     const std::string url = "http://127.0.0.1:" + std::to_string(port) + site.page;
     const bool noOpen = ap["no-open"].get<int>() != 0;
-    const int rc = serve_site(site.root, port, [&] {
+    const int rc = serve_site(site, port, executable_dir() + "/retroprism", [&] {
         std::printf("retroprism view: %s%s\n", url.c_str(),
                     doc.empty() ? " (the bundled white_sign.mtlx)"
                                 : (" (" + doc + ", material \"" + material + "\")").c_str());

@@ -64,9 +64,9 @@ install(DIRECTORY ${PROJECT_SOURCE_DIR}/examples/materials ${PROJECT_SOURCE_DIR}
                   ${PROJECT_SOURCE_DIR}/examples/sheeting ${PROJECT_SOURCE_DIR}/examples/consumer
         DESTINATION ${RP_DATA_DEST}/examples)
 install(DIRECTORY ${RP_GENERATED_DIR}/glsl/ DESTINATION ${RP_DATA_DEST}/glsl)
-# The look-dev page `retroprism view` serves (its static files only).
+# The look-dev page `retroprism view` serves (its static files) and its server, serve.py.
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/web/ DESTINATION ${RP_DATA_DEST}/web
-        FILES_MATCHING PATTERN "*.html" PATTERN "*.js" PATTERN "*.css")
+        FILES_MATCHING PATTERN "*.html" PATTERN "*.js" PATTERN "*.css" PATTERN "serve.py")
 
 # The CMake package.
 install(EXPORT retroprismTargets NAMESPACE retroprism:: DESTINATION ${RP_CMAKE_DEST})

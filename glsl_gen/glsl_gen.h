@@ -39,10 +39,19 @@ std::set<std::string> features(const Variant& v);
 // character.
 std::string generate_library(const Variant& v, const std::string& source_dir);
 
+// The GLSL library of the MaterialX-style retroreflective GGX baseline (nodes/mrm_core.inc, on
+// the parts of the node's core outside its "node" regions; no #version line): what the look-dev
+// page renders when it shows the baseline fitted to the node's R_A table. Entry points
+// rp_mrm_lobes (local frame) and rp_mrm_lobes_in_frame (the node's shading frame).
+std::string generate_baseline_library(const std::string& source_dir);
+
 // A fragment shader around a generated library for validating it with glslangValidator: the
 // inputs in a uniform block, the entry point called from main.
 enum class Target { Glsl450, Essl300, Vulkan };
 std::string wrap_fragment(const std::string& library, Target target);
+// The same around the baseline's library: its inputs in a uniform block, rp_mrm_lobes_in_frame
+// called from main.
+std::string wrap_baseline_fragment(const std::string& library, Target target);
 
 // The C++ core of a variant (the common-subset source with the regions it leaves out dropped
 // and its fixed modes as constants), for a namespace of its own: what the benchmarks use to

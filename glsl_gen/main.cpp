@@ -2,6 +2,7 @@
 //
 //   retroprism_glsl_gen SOURCE_DIR --out DIR    the build's files (run by the build):
 //       DIR/glsl/<variant>.glsl    each standard variant's GLSL library;
+//       DIR/glsl/mrm_ggx.glsl      the MaterialX-style retroreflective GGX baseline's library;
 //       DIR/cpp/<variant>.inc      the C++ core of the variants also generated as C++;
 //       DIR/embedded_files.cpp     the GLSL variants and the MaterialX library as string
 //                                  literals (from glsl_gen/embedded_files.cpp.in), written last.
@@ -69,6 +70,7 @@ Files variant_files(const std::string& root) {
     Files files;
     for (const auto& v : retroprism::glsl::standard_variants())
         files.push_back({"glsl/" + v.name + ".glsl", retroprism::glsl::generate_library(v, root)});
+    files.push_back({"glsl/mrm_ggx.glsl", retroprism::glsl::generate_baseline_library(root)});
     for (const auto& v : retroprism::glsl::standard_variants())
         if (v.cpp)
             files.push_back(

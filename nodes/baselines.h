@@ -15,24 +15,29 @@
 
 #include <glm/glm.hpp>
 
+#include "prism_core.h"
+
+// The baseline's math core in the node core's float and double namespaces, after the node's
+// core (prism_core.h), whose guards, Fresnel factor and frame it uses.
+namespace retroprism::f32 {
+#include "mrm_core.inc"
+} // namespace retroprism::f32
+namespace retroprism::f64 {
+#include "mrm_core.inc"
+} // namespace retroprism::f64
+
 namespace retroprism::baselines {
 
-// Below-the-horizon guard, the node's RP_MIN_COS.
-constexpr double kMinCos = 1e-9;
+// Below-the-horizon guard: the node's RP_MIN_COS.
+inline const double kMinCos = f64::RP_MIN_COS;
 constexpr double kPi = 3.14159265358979323846;
 
-// Exact unpolarised reflectance of a dielectric interface for light arriving from the outside
-// at cos(theta) = c, relative index eta; total internal reflection (eta < 1) returns 1.
-// Lagarde, "Memo on Fresnel equations" (2013); MaterialX mx_fresnel_dielectric.
-template <class Real>
-inline Real fresnel_dielectric(Real c, Real eta) {
-    if (c < Real(0)) return Real(1);
-    const Real g2 = eta * eta + c * c - Real(1);
-    if (g2 < Real(0)) return Real(1);
-    const Real g = std::sqrt(g2);
-    const Real x = (g - c) / (g + c);
-    const Real y = ((g + c) * c - Real(1)) / ((g - c) * c + Real(1));
-    return Real(0.5) * x * x * (Real(1) + y * y);
+// The node core's exact dielectric Fresnel factor (prism_core.inc) of the real type.
+inline float fresnel_dielectric(float c, float eta) {
+    return f32::rp_fresnel_dielectric(c, eta);
+}
+inline double fresnel_dielectric(double c, double eta) {
+    return f64::rp_fresnel_dielectric(c, eta);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -89,91 +94,31 @@ struct BeckmannCookTorranceT {
 using BeckmannCookTorrance = BeckmannCookTorranceT<double>;
 
 // ---------------------------------------------------------------------------------------------
-// MaterialX's GGX helpers (libraries/pbrlib/genglsl/lib/mx_microfacet_specular.glsl, 1.39),
-// templated on the real type, isotropic roughness. M_FLOAT_EPS is MaterialX's clamp constant.
-namespace mx {
-
-constexpr double M_FLOAT_EPS = 1e-8;
-
-// GGX NDF; Burley 2012, Appendix B.2, Eq. 13 (mx_ggx_NDF), isotropic.
-template <class Real>
-inline Real ggx_ndf(const glm::vec<3, Real>& h, Real alpha) {
-    const Real denom = (h.x * h.x + h.y * h.y) / (alpha * alpha) + h.z * h.z;
-    return Real(1) / (Real(kPi) * alpha * alpha * denom * denom);
-}
-
-// Height-correlated Smith G2 of GGX; Heitz 2014, Eqs. 72 and 99 (mx_ggx_smith_G2).
-template <class Real>
-inline Real ggx_smith_g2(Real NdotL, Real NdotV, Real alpha) {
-    const Real a2 = alpha * alpha;
-    const Real lambdaL = std::sqrt(a2 + (Real(1) - a2) * NdotL * NdotL);
-    const Real lambdaV = std::sqrt(a2 + (Real(1) - a2) * NdotV * NdotV);
-    return Real(2) / (lambdaL / NdotL + lambdaV / NdotV);
-}
-
-// GGX directional albedo: MaterialX's rational quadratic fit (mx_ggx_dir_albedo_analytic, the
-// default DIRECTIONAL_ALBEDO_METHOD 0), returned as the scale A and bias B of F0 and F90.
-template <class Real>
-inline void ggx_dir_albedo_ab(Real NdotV, Real alpha, Real& A, Real& B) {
-    const Real x = NdotV, y = alpha, x2 = x * x, y2 = y * y;
-    // Columns r.x, r.y, r.z, r.w of the fit's 9 monomials 1, x, y, xy, x2, y2, x2y, xy2, x2y2.
-    static const Real c[9][4] = {{Real(0.10031), Real(0.93450), Real(1.0), Real(1.0)},
-                                 {Real(-0.63301), Real(-2.32352), Real(-1.76427), Real(0.22797)},
-                                 {Real(9.74995), Real(2.22823), Real(8.26501), Real(15.93688)},
-                                 {Real(-2.02075), Real(-3.74584), Real(11.54840), Real(-55.82466)},
-                                 {Real(29.38247), Real(1.42450), Real(28.99991), Real(13.07919)},
-                                 {Real(-8.24713), Real(-0.76829), Real(-7.50867), Real(41.25882)},
-                                 {Real(-26.51510), Real(1.43366), Real(-36.16186), Real(54.86775)},
-                                 {Real(19.98406), Real(0.29060), Real(15.85408), Real(300.10923)},
-                                 {Real(-5.41717), Real(0.62933), Real(33.41550), Real(-284.73288)}};
-    const Real m[9] = {Real(1), x, y, x * y, x2, y2, x2 * y, x * y2, x2 * y2};
-    Real r[4] = {0, 0, 0, 0};
-    for (int k = 0; k < 9; ++k)
-        for (int j = 0; j < 4; ++j)
-            r[j] += c[k][j] * m[k];
-    A = r[0] / r[2];
-    B = r[1] / r[3];
-}
-
-template <class Real>
-inline Real ggx_dir_albedo(Real NdotV, Real alpha, Real F0, Real F90) {
-    Real A, B;
-    ggx_dir_albedo_ab(NdotV, alpha, A, B);
-    return F0 * A + F90 * B;
-}
-
-// Turquin 2019, Eqs. 14 and 16 (mx_ggx_energy_compensation).
-template <class Real>
-inline Real ggx_energy_compensation(Real NdotV, Real alpha, Real Fss) {
-    const Real Ess = ggx_dir_albedo(NdotV, alpha, Real(1), Real(1));
-    return Real(1) + Fss * (Real(1) - Ess) / Ess;
-}
-
-template <class Real>
-inline Real ior_to_f0(Real ior) {
-    const Real r = (ior - Real(1)) / (ior + Real(1));
-    return r * r;
-}
-
-} // namespace mx
-
-// ---------------------------------------------------------------------------------------------
 // The MaterialX-style "Minimal Retroreflective Microfacet" (MRM) baseline: Portsmouth, Raab,
 // Belcour, Liu, JCGT 15(1) 2026, as MaterialX's dielectric_bsdf evaluates it with
-// retroreflective = true: the GGX reflection BRDF with the view vector replaced by
-// V' = reflect(-V, N) = (-V.x, -V.y, V.z) in the local frame, every quantity derived from V
-// (half vector, Fresnel, energy compensation) taken from V'. In a standard_surface-like set-up
-// it is the top of a `layer` over a Lambertian base (oren_nayar_diffuse_bsdf, roughness 0),
-// and the layer passes the base's response times the top's throughput:
-//
-//   f = specular * tint * D(h') F(V'.h') G2(L, V') comp / (4 cos_i cos_o)
-//     + (1 - specular * E(cos_o) * comp) * color / pi,
-//   h' = normalize(L + V'),  F = exact dielectric Fresnel (mx_fresnel_dielectric),
-//   comp = 1 + F (1 - E1) / E1 (energy compensation, E1 = mx_ggx_dir_albedo(cos_o, a, 1, 1)),
-//   E(cos_o) = mx_ggx_dir_albedo(cos_o, a, F0, 1), F0 = ((ior - 1) / (ior + 1))^2,
-//
-// with MaterialX's clamps: cosines and V'.h' to [1e-8, 1], roughness a to [1e-8, 1]. MaterialX
-// evaluates response = f cos_i; here both directions below the horizon give 0 instead.
+// retroreflective = true, the top of a `layer` over a Lambertian base (oren_nayar_diffuse_bsdf,
+// roughness 0). Its math, the formula and MaterialX's clamps, is nodes/mrm_core.inc (written once
+// for C++ and GLSL; the look-dev page renders its GLSL form): the value type below holds the
+// parameters and calls it in the real type's core.
+template <class Real>
+struct MrmCore;
+#define RP_MRM_DISPATCH(REAL, NS)                                                                  \
+    template <>                                                                                    \
+    struct MrmCore<REAL> {                                                                         \
+        using vec3 = NS::vec3;                                                                     \
+        static void unit(REAL roughness, REAL ior, vec3 wi, vec3 wo, REAL& s, REAL& d, REAL& e) {  \
+            NS::rp_mrm_unit(roughness, ior, wi, wo, s, d, e);                                      \
+        }                                                                                          \
+        static void lobes(REAL roughness, REAL ior, REAL specular, vec3 tint, vec3 color, vec3 wi, \
+                          vec3 wo, vec3& specularLobe, vec3& diffuseLobe) {                        \
+            NS::rp_mrm_lobes(roughness, ior, specular, tint, color, wi, wo, specularLobe,          \
+                             diffuseLobe);                                                         \
+        }                                                                                          \
+    };
+RP_MRM_DISPATCH(float, f32)
+RP_MRM_DISPATCH(double, f64)
+#undef RP_MRM_DISPATCH
+
 template <class Real>
 struct RetroreflectiveGGXT {
     using vec3 = glm::vec<3, Real>;
@@ -199,29 +144,13 @@ struct RetroreflectiveGGXT {
 
     Unit unit(const vec3& wi, const vec3& wo) const {
         Unit u;
-        if (!(wi.z > Real(kMinCos)) || !(wo.z > Real(kMinCos))) return u;
-        const Real eps = Real(mx::M_FLOAT_EPS);
-        const vec3 V(-wo.x, -wo.y, wo.z); // reflect(-V, N)
-        const Real NdotL = std::clamp(wi.z, eps, Real(1));
-        const Real NdotV = std::clamp(V.z, eps, Real(1));
-        const Real alpha = std::clamp(roughness, eps, Real(1));
-        const vec3 H = glm::normalize(wi + V);
-        const Real VdotH = std::clamp(glm::dot(V, H), eps, Real(1));
-        const Real F = fresnel_dielectric(VdotH, ior);
-        const Real D = mx::ggx_ndf(H, alpha);
-        const Real G = mx::ggx_smith_g2(NdotL, NdotV, alpha);
-        const Real comp = mx::ggx_energy_compensation(NdotV, alpha, F);
-        u.s = D * F * G * comp / (Real(4) * NdotV * NdotL);
-        u.d = Real(1.0 / kPi);
-        u.e = mx::ggx_dir_albedo(NdotV, alpha, mx::ior_to_f0(ior), Real(1)) * comp;
+        MrmCore<Real>::unit(roughness, ior, wi, wo, u.s, u.d, u.e);
         return u;
     }
 
     Parts parts(const vec3& wi, const vec3& wo) const {
-        const Unit u = unit(wi, wo);
         Parts p;
-        p.specular = tint * (specular * u.s);
-        p.diffuse = color * (u.d * (Real(1) - specular * u.e));
+        MrmCore<Real>::lobes(roughness, ior, specular, tint, color, wi, wo, p.specular, p.diffuse);
         return p;
     }
 

@@ -2,7 +2,7 @@
 # The installed tree works alone (issue 17). Installs into a temporary prefix, takes away what
 # the installed files could lean on, then runs scripts/verify-install.py on the prefix (the
 # command's eval, era, ra, export and check --backend materialx, which needs the installed
-# MaterialX tool; the consumer example through CMake and pkg-config; the Python module against
+# MaterialX tool; view with the installed page, server and baseline GLSL; the consumer example through CMake and pkg-config; the Python module against
 # the command, bit for bit).
 #   check-install.sh BUILD_DIR      installs the built tree BUILD_DIR and moves the prefix to
 #                                   another folder before using it (ctest entry "install")

@@ -7,6 +7,9 @@ with Debian's python3 after the build tree (and, with --fresh-clone, the checkou
 - the installed command runs `eval`, `era`, `ra` and `export` (the exported MaterialX library
   and GLSL equal the installed ones byte for byte), and with --materialx `check --backend
   materialx` (real MaterialX from share/retroprism/materialx/tools);
+- `view` serves the installed page with the installed web/serve.py: site.json, the baseline's
+  GLSL as installed, and POST /fit-baseline answering what `fit --ra --baseline-only --json`
+  prints for the same table;
 - examples/consumer (installed under share/retroprism/examples/consumer) builds against the
   prefix with CMake (find_package) and with pkg-config, and prints the command's "f"; its
   consumer_ra (retroprism::analysis) prints the command's R_A table;
@@ -20,8 +23,12 @@ import filecmp
 import glob
 import json
 import os
+import socket
 import subprocess
 import sys
+import time
+import urllib.error
+import urllib.request
 
 import numpy as np
 
@@ -65,6 +72,42 @@ def check_commands(prefix, cli, share, work, materialx):
             fail(f"check --backend materialx did not pass:\n{report}")
         print("installed command: check --backend materialx passes")
     return float(era.split("ERA")[1])
+
+
+def check_view(cli, share):
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    view = subprocess.Popen([cli, "view", "--no-open", "--port", str(port)],
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    try:
+        line = view.stdout.readline()
+        if "retroprism view: http://" not in line:
+            fail(f"view printed no address: {line}{view.stdout.read() if view.poll() is not None else ''}")
+        base = f"http://127.0.0.1:{port}"
+        for _ in range(100):
+            try:
+                site = json.load(urllib.request.urlopen(base + "/site.json", timeout=10))
+                break
+            except (urllib.error.URLError, ConnectionError):
+                time.sleep(0.1)
+        else:
+            fail(f"view does not serve {base}/site.json")
+        glsl = urllib.request.urlopen(base + site["baseline"], timeout=10).read().decode()
+        with open(os.path.join(share, "glsl", "mrm_ggx.glsl")) as f:
+            if glsl != f.read():
+                fail(f"{site['baseline']} served by view differs from the installed glsl/mrm_ggx.glsl")
+        table = os.path.join(share, "examples", "sheeting", "dg983_white.csv")
+        with open(table, "rb") as f:
+            request = urllib.request.Request(base + "/fit-baseline", data=f.read(), method="POST")
+        served = json.load(urllib.request.urlopen(request, timeout=120))
+        printed = json.loads(run([cli, "fit", "--ra", table, "--baseline-only", "--json"]))
+        if served["mrm"] != printed["mrm"]:
+            fail(f"POST /fit-baseline answered {served['mrm']}, fit --baseline-only printed {printed['mrm']}")
+    finally:
+        view.terminate()
+        view.wait(timeout=30)
+    print("installed command: view serves the page, the baseline's GLSL and its fit")
 
 
 def check_consumer(prefix, cli, share, work):
@@ -150,6 +193,7 @@ def main():
     if "RETROPRISM_DATA_DIR" in os.environ:
         fail("RETROPRISM_DATA_DIR is set: the installed tree must find its data alone")
     era = check_commands(prefix, cli, share, work, args.materialx)
+    check_view(cli, share)
     check_consumer(prefix, cli, share, work)
     check_python(prefix, cli, work, era)
     if args.source_path:

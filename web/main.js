@@ -1,9 +1,11 @@
 // main.js: the look-dev page. Loads MaterialX and the node library, reads a document (the one
 // `retroprism view DOC.mtlx` serves, else the bundled white_sign.mtlx, or one dropped on the
 // page), generates its ESSL, renders the night scene with it and computes the R_A table with
-// the same shader; controls from the parameter table; exports the tuned material as .mtlx.
+// the same shader; controls from the parameter table; exports the tuned material as .mtlx; a
+// switch shows the MaterialX-style GGX baseline fitted to the node's R_A table (baseline.js).
 // window.retroprism is what the browser test (tests/web/browser_test.cjs) reads.
 import { loadMaterialX, readDocument, generateEssl, exportDocument } from './mx.js';
+import { baselineShader, baselineUniforms, fitBaseline, raTableCsv } from './baseline.js';
 import { Renderer } from './renderer.js';
 import { buildControls, sceneControl, uniformValue, valueString } from './controls.js';
 
@@ -19,6 +21,7 @@ const state = {
   observation: 0.5,
   entrance: 15,
   exposure: -8,
+  baselineShown: false, // the baseline's program renders the frame and the table
 };
 
 const hook = {
@@ -36,6 +39,10 @@ const hook = {
   ra: () => state.renderer.raTable(state.site.ra.observation, state.site.ra.entrance),
   exportMtlx: () => exportMtlx(),
   scene: null,
+  // The baseline shown: { sent: the entries posted [{observation, entrance, ra}], skipped: the
+  // entries left out (R_A <= 0), fit: the server's answer }; null while the node is shown.
+  baseline: null,
+  baselineDone: 0, // switches of the baseline finished (shown, failed or hidden)
 };
 window.retroprism = hook;
 
@@ -85,12 +92,12 @@ function applyInputs() {
 
 function render() {
   const t0 = performance.now();
-  applyInputs();
+  if (!state.baselineShown) applyInputs();
   hook.scene = state.renderer.renderFrame(state.observation, state.entrance, state.exposure);
   state.renderer.finish();
   hook.timings.frameMs = performance.now() - t0;
   const t1 = performance.now();
-  showRaTable(hook.ra());
+  showRaTable($(state.baselineShown ? 'baseline-ra' : 'ra'), hook.ra());
   hook.timings.raMs = performance.now() - t1;
   $('angles').textContent =
     `at the sign's centre: observation ${hook.scene.observationAtSign.toFixed(3)}°, ` +
@@ -98,10 +105,15 @@ function render() {
   hook.renders = (hook.renders || 0) + 1;
 }
 
-function showRaTable(rgb) {
-  const { observation, entrance } = state.site.ra;
+// Luminance Y of each entry of an RGB R_A table.
+function luminanceTable(rgb) {
   const w = state.site.luminance;
-  const t = $('ra');
+  return rgb.map((row) => row.map((c) => w[0] * c[0] + w[1] * c[1] + w[2] * c[2]));
+}
+
+function showRaTable(t, rgb) {
+  const { observation, entrance } = state.site.ra;
+  const y = luminanceTable(rgb);
   t.replaceChildren();
   const head = t.insertRow();
   head.insertCell().textContent = 'α \\ β';
@@ -110,10 +122,74 @@ function showRaTable(rgb) {
     const r = t.insertRow();
     r.insertCell().textContent = `${a}°`;
     entrance.forEach((b, j) => {
-      const c = rgb[i][j];
-      r.insertCell().textContent = (w[0] * c[0] + w[1] * c[1] + w[2] * c[2]).toFixed(2);
+      r.insertCell().textContent = y[i][j].toFixed(2);
     });
   });
+}
+
+// The baseline's side of the page: the node's controls disabled while it is shown, its table
+// and its fit's parameters and errors.
+function showBaselineFit(info) {
+  $('inputs').disabled = Boolean(info);
+  $('baseline').checked = Boolean(info);
+  $('baseline-fit').hidden = !info;
+  if (!info) return;
+  const { params, log_rms: logRms, max_error: maxError } = info.fit.mrm;
+  const g = (x) => Number(x.toPrecision(6));
+  $('baseline-summary').textContent =
+    `Fitted by retroprism fit --ra … --baseline-only to the node's ${info.sent.length} entries above ` +
+    `(log R_A, rotation 0): GGX roughness ${g(params.roughness)}, ior ${g(params.ior)}, ` +
+    `specular ${g(params.specular)}, Lambert colour ${params.color.map(g).join(', ')}; ` +
+    `RMS of ln(baseline / node) ${logRms.toFixed(4)}, largest error ${(100 * maxError).toFixed(1)}%` +
+    (info.skipped ? `; ${info.skipped} entries with R_A ≤ 0 left out (the fit works on ln R_A)` : '') +
+    '. The node’s controls are disabled while the baseline is shown.';
+}
+
+// Shows the baseline fitted to the node's current R_A table, or the node again. A failed fit
+// shows the server's message and leaves the node on the canvas.
+async function setBaseline(on) {
+  const box = $('baseline');
+  box.disabled = true;
+  let table = null;
+  try {
+    if (!on) {
+      state.renderer.use('material');
+      state.baselineShown = false;
+      hook.baseline = null;
+      showBaselineFit(null);
+      render();
+      status(`showing ${hook.documentLabel}: material "${hook.material}"`);
+      return;
+    }
+    // The table fitted is the one shown: the node's controls wait for the answer.
+    $('inputs').disabled = true;
+    status('fitting the GGX baseline to the node’s R_A table …');
+    table = raTableCsv(state.site.ra.observation, state.site.ra.entrance, luminanceTable(hook.ra()));
+    const fit = await fitBaseline(table.csv);
+    if (!state.renderer.hasShader('baseline')) {
+      const library = await fetchText(state.site.baseline);
+      hook.timings.baselineCompileMs = state.renderer.setShader(baselineShader(library), 'baseline');
+    }
+    state.renderer.use('baseline');
+    state.renderer.setUniforms(baselineUniforms(fit.mrm.params));
+    state.baselineShown = true;
+    hook.baseline = { sent: table.entries, skipped: table.skipped, fit };
+    showBaselineFit(hook.baseline);
+    showError('');
+    render();
+    status(`showing the MaterialX-style GGX baseline fitted to ${hook.documentLabel}'s R_A table`);
+  } catch (e) {
+    if (state.renderer.hasShader('material')) state.renderer.use('material');
+    state.baselineShown = false;
+    hook.baseline = null;
+    showBaselineFit(null);
+    const left = table && table.skipped ? ` (${table.skipped} entries with R_A ≤ 0 were left out of the table sent)` : '';
+    showError(`baseline: ${e && e.message ? e.message : e}${left}`);
+    status(`showing ${hook.documentLabel}; the baseline was not fitted`);
+  } finally {
+    box.disabled = false;
+    hook.baselineDone += 1;
+  }
 }
 
 // Reads a document, generates and compiles its shader, rebuilds the controls and renders.
@@ -125,9 +201,13 @@ async function openDocument(xml, label) {
     const found = await readDocument(state.m, xml, label);
     const essl = generateEssl(state.m, found);
     const t1 = performance.now();
-    const compileMs = state.renderer.setShader(essl);
+    const compileMs = state.renderer.setShader(essl, 'material');
     state.renderer.setUniforms(essl.uniforms);
     state.found = found;
+    // A new document is shown as the node: the baseline was fitted to the previous one.
+    state.baselineShown = false;
+    hook.baseline = null;
+    showBaselineFit(null);
     inputUniforms(essl.uniforms, found.bsdf.getName());
     buildControls($('inputs'), state.site.params, state.values, render);
     showError('');
@@ -215,6 +295,7 @@ async function main() {
     hook.timings.materialxMs = performance.now() - t0;
     sceneControls();
     dropping();
+    $('baseline').addEventListener('change', (e) => setBaseline(e.target.checked));
     const docUrl = new URLSearchParams(location.search).get('doc') || state.site.document;
     await openDocument(await fetchText(docUrl), docUrl.split('/').pop());
   } catch (e) {

@@ -3,7 +3,9 @@
 // compares with the C++ render), and the R_A table: one pixel per (observation, entrance) entry,
 // a flat patch lit by a directional light along wi and seen from wo (analysis/photometry.h's
 // angles), R_A = pixel * cos(theta_o). A display pass shows the frame with an exposure and the
-// sRGB transfer function.
+// sRGB transfer function. Programs live in named slots ("material": MaterialX's shader of the
+// document; "baseline": the GGX baseline, baseline.js), each keeping its uniforms; the frame and
+// the table are drawn with the selected one.
 import { LIGHT_DIRECTIONAL, LIGHT_POINT } from './mx.js';
 import { buildScene, signMesh, sphereMesh, projection } from './scene.js';
 
@@ -99,25 +101,42 @@ export class Renderer {
     this.height = canvas.height;
     this.frameTarget = target(gl, this.width, this.height);
     this.display = link(gl, DISPLAY_VERTEX, DISPLAY_FRAGMENT, 'display');
-    this.program = null;
+    this.slots = new Map(); // slot name -> { program, locations }
+    this.current = '';
     this.meshes = null;
     this.sceneKey = '';
   }
 
-  // Compiles MaterialX's shader; returns the compile-and-link time in milliseconds.
-  setShader(essl) {
+  // Compiles a shader ({vertex, fragment}) into `slot` (replacing its program; on a compile
+  // error the slot keeps it) and selects the slot; the compile-and-link time in milliseconds.
+  setShader(essl, slot = 'material') {
     const gl = this.gl;
     const t0 = performance.now();
-    const program = link(gl, essl.vertex, essl.fragment, 'material');
-    if (this.program) gl.deleteProgram(this.program);
-    this.program = program;
-    this.locations = new Map();
+    const program = link(gl, essl.vertex, essl.fragment, slot);
+    if (this.slots.has(slot)) gl.deleteProgram(this.slots.get(slot).program);
+    this.slots.set(slot, { program, locations: new Map() });
+    this.current = slot;
     return performance.now() - t0;
   }
 
+  hasShader(slot) {
+    return this.slots.has(slot);
+  }
+
+  // Selects the program the next frames, tables and uniforms use.
+  use(slot) {
+    if (!this.slots.has(slot)) throw new Error(`no ${slot} shader compiled`);
+    this.current = slot;
+  }
+
+  get program() {
+    return this.slots.get(this.current).program;
+  }
+
   loc(name) {
-    if (!this.locations.has(name)) this.locations.set(name, this.gl.getUniformLocation(this.program, name));
-    return this.locations.get(name);
+    const { program, locations } = this.slots.get(this.current);
+    if (!locations.has(name)) locations.set(name, this.gl.getUniformLocation(program, name));
+    return locations.get(name);
   }
 
   // Uniforms [{name, type (MaterialX's), value (number or array)}]: the generated shader's

@@ -46,12 +46,15 @@ std::string site_json(const std::string& documentUrl) {
     // Y of unit red, green and blue: the weights of luminance_709, the one place they live.
     j["luminance"] = {luminance_709({1, 0, 0}), luminance_709({0, 1, 0}), luminance_709({0, 0, 1})};
     j["document"] = documentUrl;
+    j["baseline"] = kBaselineGlslUrl;
     return j.dump(1);
 }
 
-Site make_site(const std::string& dataDir, const std::string& root, const std::string& document) {
+Site make_site(const std::string& dataDir, const std::string& root, const std::string& document,
+               const std::string& baselineGlsl) {
     const fs::path data(dataDir);
     require_path(data / "web" / "index.html", "the look-dev page", "");
+    require_path(data / "web" / "serve.py", "the look-dev page's server", "");
     require_path(data / "materialx" / "tools" / "node_modules" / "@needle-tools" / "materialx" /
                      "bin" / "JsMaterialXGenShader.wasm",
                  "MaterialX's WebAssembly build",
@@ -72,7 +75,8 @@ Site make_site(const std::string& dataDir, const std::string& root, const std::s
         documentUrl = "/document.mtlx";
     }
     std::ofstream(fs::path(root) / "site.json") << site_json(documentUrl) << "\n";
-    return {root, "/web/index.html"};
+    std::ofstream(fs::path(root) / fs::path(kBaselineGlslUrl).filename()) << baselineGlsl;
+    return {root, "/web/index.html", (data / "web" / "serve.py").string()};
 }
 
 std::string server_python() {
@@ -90,15 +94,17 @@ bool open_in_browser(const std::string& url) {
     return pid > 0;
 }
 
-int serve_site(const std::string& root, int port, const std::function<void()>& onStarted) {
+int serve_site(const Site& site, int port, const std::string& retroprism,
+               const std::function<void()>& onStarted) {
     const std::string python = server_python();
     const std::string portText = std::to_string(port);
     const pid_t pid = fork();
     if (pid < 0) throw std::runtime_error("cannot start the server: fork failed");
     if (pid == 0) {
-        const char* argv[] = {python.c_str(),   "-m",         "http.server",
-                              portText.c_str(), "--bind",     "127.0.0.1",
-                              "--directory",    root.c_str(), nullptr};
+        const char* argv[] = {
+            python.c_str(), site.server.c_str(), "--directory",  site.root.c_str(),
+            "--port",       portText.c_str(),    "--retroprism", retroprism.c_str(),
+            nullptr};
         execvp(argv[0], const_cast<char* const*>(argv));
         std::_Exit(127);
     }

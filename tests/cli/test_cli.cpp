@@ -3,10 +3,13 @@
 // and no output file.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include <unistd.h>
 
@@ -14,7 +17,10 @@
 
 #include "backend.h"
 #include "glsl_gen.h"
+#include "photometry.h"
 #include "query.h"
+#include "ra_fit.h"
+#include "ra_table.h"
 #include "test_support.h"
 
 using namespace retroprism;
@@ -243,6 +249,7 @@ TEST_CASE("export writes the MaterialX library as checked in and the GLSL as gen
         CHECK(read(out / "glsl" / (v.name + ".glsl")) == glsl::generate_library(v, src.string()));
         ++compared;
     }
+    CHECK(read(out / "glsl" / "mrm_ggx.glsl") == glsl::generate_baseline_library(src.string()));
     CHECK(compared >= 19);
     CHECK(fs::exists(out / "README.md"));
     Run bad = run("export --out /proc/retroprism");
@@ -293,4 +300,116 @@ TEST_CASE("export --max-error picks the cheapest variant that fits the document"
     Run bad = run("export --out " + out.string() + " --document " + doc + " --max-error 2");
     CHECK(bad.status != 0);
     CHECK(contains(bad.output, "--max-error 2: expected a relative error in [0, 1]"));
+}
+
+TEST_CASE("fit --ra --baseline-only fits the GGX baseline alone; options of the node's fit are "
+          "refused",
+          "[cli]") {
+    // A table the baseline itself makes (its Lambert colour the fit's 0.8), at the look-dev
+    // page's angles and rotation 0, written to 17 digits: the fit must find it again.
+    baselines::RetroreflectiveGGX truth;
+    truth.roughness = 0.03;
+    truth.ior = 1.6;
+    truth.specular = 0.8;
+    RaMeasurements t;
+    for (double a : ra_observation_angles())
+        for (double b : ra_entrance_angles()) {
+            RaEntry e;
+            e.observation_deg = a;
+            e.entrance_deg = b;
+            e.rotation_deg = 0.0;
+            t.entries.push_back(e);
+        }
+    const std::vector<double> ra = ra_mrm_values(truth, t.entries);
+    std::string csv = "observation_deg,entrance_deg,rotation_deg,ra\n";
+    for (size_t i = 0; i < ra.size(); ++i) {
+        char row[128];
+        std::snprintf(row, sizeof row, "%.17g,%.17g,0,%.17g\n", t.entries[i].observation_deg,
+                      t.entries[i].entrance_deg, ra[i]);
+        csv += row;
+    }
+    const fs::path table = write_temp("baseline_table.csv", csv);
+    Run r = run("fit --ra " + table.string() + " --baseline-only --json");
+    REQUIRE(r.status == 0);
+    const json j = json::parse(r.output);
+    auto keys = [](const json& o) {
+        std::vector<std::string> k;
+        for (auto it = o.begin(); it != o.end(); ++it)
+            k.push_back(it.key());
+        return k;
+    };
+    CHECK(keys(j) == std::vector<std::string>{"mrm", "table"});
+    CHECK(j["table"] == table.string());
+    CHECK(keys(j["mrm"]) == std::vector<std::string>{"entries", "log_rms", "max_error", "params"});
+    CHECK(keys(j["mrm"]["params"]) ==
+          std::vector<std::string>{"color", "ior", "roughness", "specular", "tint"});
+    // No noise: the parameters within 1%, the fit within the rounding of its values to 6 digits.
+    const json& p = j["mrm"]["params"];
+    CHECK(p["roughness"].get<double>() == Approx(truth.roughness).epsilon(0.01));
+    CHECK(p["ior"].get<double>() == Approx(truth.ior).epsilon(0.01));
+    CHECK(p["specular"].get<double>() == Approx(truth.specular).epsilon(0.01));
+    CHECK(p["tint"] == json({1.0, 1.0, 1.0}));
+    CHECK(p["color"] == json({0.8, 0.8, 0.8}));
+    CHECK(j["mrm"]["log_rms"].get<double>() < 1e-3);
+    // Each entry: where it was measured, the measured value as read, and the fitted baseline's
+    // R_A as the library computes it for the printed parameters (to rounding).
+    baselines::RetroreflectiveGGX fitted;
+    fitted.roughness = p["roughness"].get<double>();
+    fitted.ior = p["ior"].get<double>();
+    fitted.specular = p["specular"].get<double>();
+    const std::vector<double> expected = ra_mrm_values(fitted, t.entries);
+    const json& entries = j["mrm"]["entries"];
+    REQUIRE(entries.size() == t.entries.size());
+    double worstRel = 0, worstError = 0;
+    for (size_t i = 0; i < entries.size(); ++i) {
+        const json& e = entries[i];
+        CHECK(keys(e) == std::vector<std::string>{"entrance_deg", "line", "mrm", "mrm_error",
+                                                  "observation_deg", "presentation_deg", "ra",
+                                                  "rotation_deg"});
+        CHECK(e["line"] == int(i) + 2);
+        CHECK(e["observation_deg"] == t.entries[i].observation_deg);
+        CHECK(e["entrance_deg"] == t.entries[i].entrance_deg);
+        CHECK(e["rotation_deg"] == 0.0);
+        CHECK(e["ra"] == ra[i]);
+        worstRel = std::max(worstRel, std::abs(e["mrm"].get<double>() / expected[i] - 1.0));
+        worstError = std::max(worstError, std::abs(e["mrm_error"].get<double>()));
+    }
+    CHECK(worstRel < 1e-12);
+    CHECK(j["mrm"]["max_error"].get<double>() == worstError);
+    // The text report.
+    Run text = run("fit --ra " + table.string() + " --baseline-only");
+    CHECK(text.status == 0);
+    CHECK(contains(text.output, "mrm (retroreflective GGX + Lambert): roughness"));
+
+    // What goes with the node's fit, or with --ra, is refused, naming the option.
+    for (const std::string& option :
+         {std::string("--plot ") + temp_path("b.png").string(),
+          std::string("--mtlx ") + temp_path("b.mtlx").string(), std::string("--name sheet"),
+          std::string("--material ") + table.string()}) {
+        Run bad = run("fit --ra " + table.string() + " --baseline-only " + option);
+        INFO(option);
+        CHECK(bad.status != 0);
+        CHECK(contains(bad.output, option.substr(0, option.find(' ')) +
+                                       " goes with the node's fit, not --baseline-only"));
+    }
+    CHECK_FALSE(fs::exists(temp_path("b.png")));
+    CHECK_FALSE(fs::exists(temp_path("b.mtlx")));
+    Run alta = run("fit " + table.string() + " --baseline-only");
+    CHECK(alta.status != 0);
+    CHECK(contains(alta.output, "--baseline-only goes with --ra TABLE.csv"));
+    // A table the reader refuses: its message, naming the file and line (what the view server
+    // passes on to the page).
+    const fs::path zero =
+        write_temp("baseline_zero.csv", "observation_deg,entrance_deg,rotation_deg,ra\n"
+                                        "0.2,-4,0,100\n0.5,-4,0,0\n");
+    Run refused = run("fit --ra " + zero.string() + " --baseline-only --json");
+    CHECK(refused.status != 0);
+    CHECK(contains(refused.output, zero.string() + ":3, column 4 (ra): 0 is out of range"));
+    const fs::path empty = write_temp("baseline_empty.csv", "observation_deg,entrance_deg,ra\n");
+    Run none = run("fit --ra " + empty.string() + " --baseline-only --json");
+    CHECK(none.status != 0);
+    CHECK(contains(none.output, empty.string()));
+    fs::remove(table);
+    fs::remove(zero);
+    fs::remove(empty);
 }

@@ -1,15 +1,19 @@
 // [cli] `retroprism params --json` and `retroprism view`'s site (web/site.h): the page's controls
 // come from the parameter table, its R_A angles and luminance weights from the photometry
-// library; bad documents and folders are named. The page itself runs in the ctest entry web.
+// library, its baseline's GLSL from glsl_gen; bad documents and folders are named. The page and
+// its server (web/serve.py) run in the ctest entry web.
 #include <catch2/catch.hpp>
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
+#include "embedded_files.h"
 #include "error.h"
+#include "glsl_gen.h"
 #include "photometry.h"
 #include "query.h"
 #include "site.h"
@@ -45,30 +49,43 @@ TEST_CASE("view's site: links, site.json, the document; errors name what is miss
     fs::remove_all(dir);
     fs::create_directories(dir);
     const std::string doc = std::string(RP_SOURCE_DIR) + "/examples/documents/white_sign.mtlx";
-    const Site site = make_site(RP_SOURCE_DIR, (dir / "a").string(), doc);
+    const std::string baseline = embedded_variant("mrm_ggx");
+    CHECK(baseline == glsl::generate_baseline_library(RP_SOURCE_DIR));
+    const Site site = make_site(RP_SOURCE_DIR, (dir / "a").string(), doc, baseline);
     CHECK(site.page == "/web/index.html");
-    for (const char* f :
-         {"web/index.html", "web/main.js", "materialx/rp_pbrlib/rp_pbrlib_defs.mtlx",
-          "examples/documents/white_sign.mtlx", "document.mtlx"})
+    CHECK(site.server == std::string(RP_SOURCE_DIR) + "/web/serve.py");
+    for (const char* f : {"web/index.html", "web/main.js", "web/baseline.js", "web/serve.py",
+                          "materialx/rp_pbrlib/rp_pbrlib_defs.mtlx",
+                          "examples/documents/white_sign.mtlx", "document.mtlx"})
         CHECK(fs::exists(dir / "a" / f));
+    // The baseline's GLSL where site.json says.
+    std::ifstream glslIn(dir / "a" / fs::path(kBaselineGlslUrl).relative_path());
+    CHECK(std::string(std::istreambuf_iterator<char>(glslIn), {}) == baseline);
     std::ifstream in(dir / "a" / "site.json");
     const json j = json::parse(in);
     CHECK(j["params"] == params_table_json());
     CHECK(j["ra"]["observation"] == json(ra_observation_angles()));
     CHECK(j["ra"]["entrance"] == json(ra_entrance_angles()));
     CHECK(j["document"] == "/document.mtlx");
+    CHECK(j["baseline"] == kBaselineGlslUrl);
     // The luminance weights are luminance_709's: they sum to 1 and weigh green most.
     CHECK(j["luminance"][0].get<double>() + j["luminance"][1].get<double>() +
               j["luminance"][2].get<double>() ==
           Approx(1.0).epsilon(1e-12));
     CHECK(json::parse(site_json("/x.mtlx"))["document"] == "/x.mtlx");
 
-    CHECK_THROWS_WITH(make_site(RP_SOURCE_DIR, (dir / "a").string(), ""),
+    CHECK_THROWS_WITH(make_site(RP_SOURCE_DIR, (dir / "a").string(), "", baseline),
                       Catch::Contains("cannot create the site's folder (it exists)"));
-    CHECK_THROWS_WITH(make_site(RP_SOURCE_DIR, (dir / "b").string(), (dir / "nope.mtlx").string()),
-                      Catch::Contains("nope.mtlx: the document not found"));
-    CHECK_THROWS_WITH(make_site(dir.string(), (dir / "c").string(), ""),
+    CHECK_THROWS_WITH(
+        make_site(RP_SOURCE_DIR, (dir / "b").string(), (dir / "nope.mtlx").string(), baseline),
+        Catch::Contains("nope.mtlx: the document not found"));
+    CHECK_THROWS_WITH(make_site(dir.string(), (dir / "c").string(), "", baseline),
                       Catch::Contains("web/index.html: the look-dev page not found"));
+    // A data folder with the page but not its server.
+    fs::create_directories(dir / "data" / "web");
+    std::ofstream(dir / "data" / "web" / "index.html") << "<!doctype html>";
+    CHECK_THROWS_WITH(make_site((dir / "data").string(), (dir / "d").string(), "", baseline),
+                      Catch::Contains("web/serve.py: the look-dev page's server not found"));
     fs::remove_all(dir);
 }
 

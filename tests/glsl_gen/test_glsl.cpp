@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <set>
 #include <sstream>
 
@@ -37,6 +38,33 @@ int run_status(const std::string& cmd, std::string* output = nullptr) {
     return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
 }
 
+// Writes wrap(target) for each of the three targets and checks that glslangValidator compiles
+// it; the number compiled.
+int compile_for_targets(const std::string& name,
+                        const std::function<std::string(glsl::Target)>& wrap) {
+    const fs::path dir = fs::temp_directory_path() / "retroprism_glslang";
+    fs::create_directories(dir);
+    const struct {
+        glsl::Target target;
+        const char* suffix;
+        const char* flags;
+    } targets[] = {{glsl::Target::Glsl450, "glsl450", ""},
+                   {glsl::Target::Essl300, "essl300", ""},
+                   {glsl::Target::Vulkan, "vulkan", "-V -o /dev/null"}};
+    int compiled = 0;
+    for (const auto& t : targets) {
+        const fs::path f = dir / (name + "_" + t.suffix + ".frag");
+        std::ofstream(f) << wrap(t.target);
+        std::string out;
+        const int st =
+            run_status(std::string("glslangValidator ") + t.flags + " " + f.string(), &out);
+        INFO(name << " as " << t.suffix << ":\n" << out);
+        CHECK(st == 0);
+        compiled += st == 0;
+    }
+    return compiled;
+}
+
 } // namespace
 
 TEST_CASE("The embedded GLSL is what glsl_gen generates", "[glsl]") {
@@ -47,7 +75,34 @@ TEST_CASE("The embedded GLSL is what glsl_gen generates", "[glsl]") {
     // The glsl backend's library is the full variant.
     CHECK(gl::embedded_library() ==
           glsl::generate_library(glsl::standard_variants().front(), RP_SOURCE_DIR));
+    CHECK(embedded_variant("mrm_ggx") == glsl::generate_baseline_library(RP_SOURCE_DIR));
     CHECK_THROWS(embedded_variant("no_such_variant"));
+}
+
+TEST_CASE("The GGX baseline's GLSL: its core and the node's frame and Fresnel, nothing else of "
+          "the node; it compiles for every target",
+          "[glsl]") {
+    const std::string lib = glsl::generate_baseline_library(RP_SOURCE_DIR);
+    std::stringstream in(lib);
+    std::string text, line;
+    while (std::getline(in, line))
+        text += line.substr(0, line.find("//")) + "\n";
+    auto has = [&](const char* s) { return text.find(s) != std::string::npos; };
+    for (const char* used :
+         {"void rp_mrm_lobes_in_frame(", "void rp_mrm_lobes(", "float rp_fresnel_dielectric(",
+          "void rp_make_frame(", "bool rp_to_local(", "RP_MIN_COS"}) {
+        INFO(used);
+        CHECK(has(used));
+    }
+    // The node's own code stays out: its material, tables and lobes.
+    for (const char* left : {"rp_material", "rp_eval", "rp_era", "_table", "rp_fresnel_internal",
+                             "rp_beckmann", "@rp-", "RP_FN", " real "}) {
+        INFO(left);
+        CHECK_FALSE(has(left));
+    }
+    CHECK(compile_for_targets("mrm_ggx", [&](glsl::Target t) {
+              return glsl::wrap_baseline_fragment(lib, t);
+          }) == 3);
 }
 
 TEST_CASE("Specialised variants leave out the code they do not use", "[glsl]") {
@@ -86,28 +141,11 @@ TEST_CASE("Specialised variants leave out the code they do not use", "[glsl]") {
 }
 
 TEST_CASE("Every variant compiles as GLSL 4.50, ESSL 3.00 and Vulkan GLSL", "[glsl]") {
-    const fs::path dir = fs::temp_directory_path() / "retroprism_glslang";
-    fs::create_directories(dir);
     int compiled = 0;
     for (const glsl::Variant& v : glsl::standard_variants()) {
         const std::string lib = glsl::generate_library(v, RP_SOURCE_DIR);
-        const struct {
-            glsl::Target target;
-            const char* suffix;
-            const char* flags;
-        } targets[] = {{glsl::Target::Glsl450, "glsl450", ""},
-                       {glsl::Target::Essl300, "essl300", ""},
-                       {glsl::Target::Vulkan, "vulkan", "-V -o /dev/null"}};
-        for (const auto& t : targets) {
-            const fs::path f = dir / (v.name + "_" + t.suffix + ".frag");
-            std::ofstream(f) << glsl::wrap_fragment(lib, t.target);
-            std::string out;
-            int st =
-                run_status(std::string("glslangValidator ") + t.flags + " " + f.string(), &out);
-            INFO(v.name << " as " << t.suffix << ":\n" << out);
-            CHECK(st == 0);
-            compiled += st == 0;
-        }
+        compiled += compile_for_targets(
+            v.name, [&](glsl::Target t) { return glsl::wrap_fragment(lib, t); });
     }
     std::printf("MEASURED: glslangValidator compiled %d variant x target combinations (%zu "
                 "variants x GLSL 4.50, ESSL 3.00, Vulkan SPIR-V)\n",

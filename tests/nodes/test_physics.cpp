@@ -23,6 +23,7 @@
 
 #include <unistd.h>
 
+#include "baselines.h"
 #include "benchmarks.h"
 #include "cube_corner.h"
 #include "test_support.h"
@@ -1548,4 +1549,65 @@ TEST_CASE("The fast tier's approximations, measured against the exact formulas",
     CHECK(worstG1 <= 5e-3);
     CHECK(worstTirPlastics <= 0.04);
     CHECK(meanTir <= 1e-3);
+}
+
+TEST_CASE("The GGX baseline's core: a normalised GGX, its retro peak, any frame, float",
+          "[physics]") {
+    namespace f64 = retroprism::f64;
+    namespace f32 = retroprism::f32;
+    // The GGX NDF is a density of normals: the integral of D(h) cos(theta_h) over the hemisphere
+    // is 1 (midpoint rule in u = tan(theta_h) / alpha, where the lobe lives; the tail beyond
+    // u = 4000 holds 1 / (1 + u^2) < 6e-8 of it).
+    for (double alpha : {0.05, 0.3}) {
+        const int n = 400000;
+        const double uMax = 4000.0;
+        double sum = 0;
+        for (int i = 0; i < n; ++i) {
+            const double u = (i + 0.5) * uMax / n, t = std::atan(u * alpha);
+            const dvec3 h(std::sin(t), 0.0, std::cos(t));
+            // d(omega) = 2 pi sin(theta) d(theta), d(theta) = alpha du / (1 + alpha^2 u^2)
+            sum += f64::rp_ggx_ndf(h, alpha) * h.z * 2.0 * M_PI * std::sin(t) * alpha /
+                   (1.0 + alpha * alpha * u * u) * (uMax / n);
+        }
+        INFO("alpha " << alpha);
+        CHECK(sum == Approx(1.0).epsilon(1e-4));
+    }
+    const double alpha = 0.04, eta = 1.55;
+    const dvec3 tint(1.0), color(0.8);
+    for (double thetaI : {0.0, 20.0, 50.0, 75.0}) {
+        INFO("theta_i " << thetaI);
+        const dvec3 wi = dir_deg(thetaI, 30.0);
+        // At wo = wi the mirrored view is the mirror direction of wi: h' = +z, D = 1/(pi alpha^2),
+        // the Fresnel factor at cos(theta_i).
+        double s = 0, d = 0, e = 0;
+        REQUIRE(f64::rp_mrm_unit(alpha, eta, wi, wi, s, d, e));
+        const double c = wi.z;
+        const double expected =
+            f64::rp_fresnel_dielectric(c, eta) * f64::rp_ggx_smith_g2(c, c, alpha) *
+            f64::rp_ggx_energy_compensation(c, alpha, f64::rp_fresnel_dielectric(c, eta)) /
+            (M_PI * alpha * alpha * 4.0 * c * c);
+        CHECK(s == Approx(expected).epsilon(1e-12));
+        CHECK(d == Approx(1.0 / M_PI).epsilon(1e-15));
+        // In a tilted frame (what the GLSL entry point does) the lobes are the local ones.
+        const dvec3 wo = dir_deg(thetaI + 3.0, 200.0);
+        const dvec3 n = glm::normalize(dvec3(0.3, -0.2, 0.9)), t0(1.0, 0.0, 0.0);
+        const dvec3 t = glm::normalize(t0 - glm::dot(t0, n) * n), b = glm::cross(n, t);
+        auto world = [&](const dvec3& w) { return w.x * t + w.y * b + w.z * n; };
+        dvec3 sLocal, dLocal, sFrame, dFrame;
+        f64::rp_mrm_lobes(alpha, eta, 0.7, tint, color, wi, wo, sLocal, dLocal);
+        f64::rp_mrm_lobes_in_frame(alpha, eta, 0.7, tint, color, n, t0, world(wi), world(wo),
+                                   sFrame, dFrame);
+        CHECK(sFrame.x == Approx(sLocal.x).epsilon(1e-9));
+        CHECK(dFrame.x == Approx(dLocal.x).epsilon(1e-12));
+        // Float agrees with double (away from grazing; 1e-4, the tolerance contract's).
+        glm::vec3 sF, dF;
+        f32::rp_mrm_lobes(float(alpha), float(eta), 0.7f, glm::vec3(1.0f), glm::vec3(0.8f),
+                          glm::vec3(wi), glm::vec3(wo), sF, dF);
+        CHECK(double(sF.x) == Approx(sLocal.x).epsilon(1e-4));
+        CHECK(double(dF.x) == Approx(dLocal.x).epsilon(1e-4));
+    }
+    // Below the horizon: nothing.
+    double s = 1, d = 1, e = 1;
+    CHECK_FALSE(f64::rp_mrm_unit(alpha, eta, dvec3(0.1, 0.0, -0.99), dir_deg(10.0, 0.0), s, d, e));
+    CHECK((s == 0 && d == 0 && e == 0));
 }

@@ -8,8 +8,15 @@
 //   4. moving a control (ior) changes the image and the R_A table as the C++ node says: the page
 //      exports the tuned document and the C++ renders it;
 //   5. a malformed document dropped on the page shows an error naming it, and the canvas keeps
-//      the previous image.
-// Prints the load time, the shader's compile time and the frame time; writes a screenshot.
+//      the previous image;
+//   6. the switch to the MaterialX-style GGX baseline: the view server (web/serve.py) answers
+//      POST /fit-baseline with the C++ fit, or the reader's message; the table the server fitted
+//      is the node's table the page showed; the baseline's R_A table, computed by its shader on
+//      the page, matches the C++ baseline's values the server returned; the image changes and the
+//      node's controls are disabled; switching back gives the node's frame bit for bit;
+//   7. a table the fit refuses (every entry 0) shows the server's message, and the canvas keeps
+//      the node's image.
+// Prints the load time, the shader's compile time and the frame time; writes screenshots.
 //
 //   node browser_test.cjs --retroprism BIN --doc DOC.mtlx --out DIR
 // Exit status 0 when every check passes; each failure is printed with its figures.
@@ -66,6 +73,12 @@ const FRAME = {
 // 1% hard), applied to every entry with no failures allowed: the table's directions are exact
 // floats of the same angles.
 const RA = { perEntry: 1e-4 };
+// The baseline's R_A table (the page's float shader of glsl/mrm_ggx.glsl) against the C++
+// baseline's values in double the server returned: the same contract, 1e-4 per entry, none over
+// it: the patch's frame is exact (normal +z, tangent +x), wi and wo are float roundings of the
+// same angles, and the GGX lobe of a fit to the white sheeting (roughness ~0.03) moves by far less
+// than 1e-4 under a float ulp of those directions (measured: see the printed figure).
+const BASELINE_RA = { perEntry: 1e-4 };
 
 const failures = [];
 function check(ok, what) {
@@ -236,6 +249,129 @@ async function dropDocument(page, name, text) {
   return before;
 }
 
+// The view server's own answers (web/serve.py): a table the reader refuses gives 400 and its
+// message naming the line, another request 404; the static files are still served.
+async function checkServer(pageUrl) {
+  const origin = new URL(pageUrl).origin;
+  const post = (p, body) => fetch(origin + p, { method: 'POST', body }).then(async (r) => ({ status: r.status, json: await r.json() }));
+  const refused = await post('/fit-baseline', 'observation_deg,entrance_deg,rotation_deg,ra\n0.2,-4,0,100\n0.5,-4,0,-3\n');
+  check(refused.status === 400 && /the page's R_A table:3, column 4 \(ra\): -3 is out of range/.test(refused.json.error),
+    `POST /fit-baseline of a table with R_A -3 on its line 3: HTTP ${refused.status}, "${refused.json.error}"`);
+  const unknown = await post('/fit-node', 'x');
+  check(unknown.status === 404 && /no such request/.test(unknown.json.error), `POST /fit-node: HTTP ${unknown.status}, "${unknown.json.error}"`);
+  const site = await fetch(origin + '/site.json');
+  check(site.ok, `GET /site.json: HTTP ${site.status}`);
+}
+
+// Luminance Y of an RGB R_A table, as the page computes it (web/main.js, luminanceTable).
+function luminanceTable(rgb, w) {
+  return rgb.map((row) => row.map((c) => w[0] * c[0] + w[1] * c[1] + w[2] * c[2]));
+}
+
+// Clicks the baseline switch (on or off) and waits for the page to finish; its state then.
+async function switchBaseline(page, on) {
+  const done = await page.evaluate(() => window.retroprism.baselineDone);
+  const t0 = Date.now();
+  // A click toggles it; the page may uncheck it again (a refused fit), which check() would
+  // take for a failed click.
+  const box = page.locator('#baseline');
+  if ((await box.isChecked()) === on) throw new Error(`the baseline switch is already ${on ? 'on' : 'off'}`);
+  await box.click();
+  await page.waitForFunction((n) => window.retroprism.baselineDone > n, done, { polling: 100, timeout: 300000 });
+  const seconds = (Date.now() - t0) / 1000;
+  return page.evaluate((s) => ({
+    seconds: s,
+    baseline: window.retroprism.baseline,
+    error: window.retroprism.error,
+    checked: document.getElementById('baseline').checked,
+    controlsDisabled: document.getElementById('input-ior').matches(':disabled'),
+    timings: window.retroprism.timings,
+  }), seconds);
+}
+
+async function checkBaseline(page, site, out) {
+  const { observation, entrance } = site.ra;
+  const nodeFrame = await page.evaluate(() => window.retroprism.frame());
+  const nodeRa = await page.evaluate(() => window.retroprism.ra());
+  const nodeY = luminanceTable(nodeRa, site.luminance);
+  const shown = await page.evaluate(() => [...document.querySelectorAll('#ra tr')].slice(1).map((r) => [...r.cells].slice(1).map((c) => c.textContent)));
+  const on = await switchBaseline(page, true);
+  check(on.error === '' && on.baseline !== null && on.checked, `the baseline switch shows the baseline (${on.error || 'no error'})`);
+  if (!on.baseline) return;
+  const { sent, skipped, fit } = on.baseline;
+  const p = fit.mrm.params;
+  console.log(`baseline: fitted and shown in ${on.seconds.toFixed(1)} s (its shader compiled in ${on.timings.baselineCompileMs.toFixed(0)} ms, ` +
+    `frame ${on.timings.frameMs.toFixed(0)} ms): GGX roughness ${p.roughness}, ior ${p.ior}, specular ${p.specular}; ` +
+    `RMS of ln(baseline / node) ${fit.mrm.log_rms.toFixed(4)}, largest error ${(100 * fit.mrm.max_error).toFixed(1)}%`);
+  check(on.controlsDisabled, 'the node\'s controls are disabled while the baseline is shown');
+  // The table the server fitted is the node's table the page showed: the page's values (and the
+  // shown ones at their two decimals), every entry but those with R_A <= 0, read back exactly.
+  let exact = true;
+  let shownMatch = true;
+  let k = 0;
+  let positive = 0;
+  observation.forEach((a, i) => entrance.forEach((b, j) => {
+    shownMatch = shownMatch && shown[i][j] === nodeY[i][j].toFixed(2);
+    if (!(nodeY[i][j] > 0)) return;
+    ++positive;
+    const s = sent[k];
+    const f = fit.mrm.entries[k];
+    exact = exact && s && f && s.observation === a && s.entrance === b && s.ra === nodeY[i][j] &&
+      f.observation_deg === a && f.entrance_deg === b && f.rotation_deg === 0 && f.ra === s.ra;
+    ++k;
+  }));
+  check(shownMatch, 'the R_A table shown is the node\'s (its luminance to two decimals)');
+  check(sent.length === positive && skipped === observation.length * entrance.length - positive && fit.mrm.entries.length === positive,
+    `the page sent the node's ${positive} entries with R_A > 0 (${skipped} left out) and the server fitted ${fit.mrm.entries.length}`);
+  check(exact, 'the server fitted the node\'s R_A values the page computed, bit for bit, at their angles and rotation 0');
+  // The baseline's R_A on the page (its GLSL in the browser) against the C++ baseline's.
+  const pageY = luminanceTable(await page.evaluate(() => window.retroprism.ra()), site.luminance);
+  let maxErr = 0;
+  k = 0;
+  observation.forEach((a, i) => entrance.forEach((b, j) => {
+    if (!(nodeY[i][j] > 0)) return;
+    const ref = fit.mrm.entries[k++].mrm;
+    maxErr = Math.max(maxErr, Math.abs(pageY[i][j] - ref) / Math.abs(ref));
+  }));
+  console.log(`baseline R_A: page (float GLSL) vs C++ (double) over ${positive} entries: largest relative difference ${maxErr.toExponential(2)}`);
+  check(maxErr <= BASELINE_RA.perEntry, `baseline R_A table vs the C++ baseline's: largest relative difference ${maxErr.toExponential(2)} <= ${BASELINE_RA.perEntry}`);
+  const gpuNode = pageFrame(nodeFrame);
+  const gpuBaseline = pageFrame(await page.evaluate(() => window.retroprism.frame()));
+  const changed = compareFrames(gpuBaseline, gpuNode);
+  // As for a moved control: far above the sphere's tolerance, 2e-3.
+  check(changed.meanErr > 2e-2, `the baseline changes the image (mean relative change ${changed.meanErr.toExponential(2)})`);
+  await page.screenshot({ path: path.join(out, 'view_baseline.png') });
+  const off = await switchBaseline(page, false);
+  check(off.error === '' && off.baseline === null && !off.checked && !off.controlsDisabled,
+    'switching back shows the node, its controls enabled');
+  const back = await page.evaluate(() => window.retroprism.frame());
+  check(back === nodeFrame, 'switching back gives the node\'s frame bit for bit');
+  const backRa = await page.evaluate(() => window.retroprism.ra());
+  check(JSON.stringify(backRa) === JSON.stringify(nodeRa), 'switching back gives the node\'s R_A table bit for bit');
+}
+
+// Every entry 0 (weight 0): the page sends no entry, the server's reader refuses the table, the
+// page shows its message and keeps the node's image. Chromium logs the 400 answer as a console
+// error: that one is expected.
+async function checkBaselineRefused(page, consoleErrors) {
+  const renders = await page.evaluate(() => window.retroprism.renders);
+  await page.locator('#input-weight').fill('0');
+  await page.waitForFunction((n) => window.retroprism.renders > n, renders, { polling: 100, timeout: 60000 });
+  const before = await page.evaluate(() => window.retroprism.frame());
+  const errorsBefore = consoleErrors.length;
+  const r = await switchBaseline(page, true);
+  const shown = await page.evaluate(() => !document.getElementById('error').hidden && document.getElementById('error').textContent);
+  check(r.baseline === null && !r.checked && !r.controlsDisabled, 'a refused fit leaves the node shown, its controls enabled');
+  check(shown && /^baseline: the server could not fit the baseline: .*the page's R_A table:1: no rows/.test(shown) && /25 entries with R_A ≤ 0/.test(shown),
+    `a refused fit shows the server's message: "${shown}"`);
+  const kept = await page.evaluate(() => window.retroprism.frame());
+  check(kept === before, 'after a refused fit the canvas keeps the node\'s image');
+  const added = consoleErrors.splice(errorsBefore);
+  check(added.length <= 1 && added.every((e) => /status of 400/.test(e) && /fit-baseline/.test(e)),
+    `the refused fit adds no console error but Chromium's note of the 400 answer (${added.join(' | ') || 'none'})`);
+  check(consoleErrors.length === 0, `no other console errors (${consoleErrors.join(' | ') || 'none'})`);
+}
+
 async function main() {
   const a = args();
   if (!fs.existsSync(CHROMIUM)) throw new Error(`${CHROMIUM} not found: ${SETUP_HINT}`);
@@ -256,7 +392,7 @@ async function main() {
     browser = await chromium.launch({ executablePath: CHROMIUM, args: CHROMIUM_ARGS });
     const page = await browser.newPage({ viewport: { width: 1280, height: 720 } });
     const consoleErrors = [];
-    page.on('console', (m) => { if (m.type() === 'error') consoleErrors.push(m.text()); });
+    page.on('console', (m) => { if (m.type() === 'error') consoleErrors.push(`${m.text()} (${m.location().url})`); });
     page.on('pageerror', (e) => consoleErrors.push(e.message));
     const tLoad = Date.now();
     await page.goto(url);
@@ -322,6 +458,11 @@ async function main() {
     }
     await page.screenshot({ path: path.join(a.out, 'view_error.png') });
     check(consoleErrors.length === 0, `still no console errors (${consoleErrors.join(' | ') || 'none'})`);
+
+    // 6, 7: the GGX baseline.
+    await checkServer(view.url);
+    await checkBaseline(page, site, a.out);
+    await checkBaselineRefused(page, consoleErrors);
   } finally {
     if (browser) await browser.close();
     view.child.kill('SIGTERM');

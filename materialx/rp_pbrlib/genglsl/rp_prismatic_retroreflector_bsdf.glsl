@@ -2025,7 +2025,9 @@ float rp_fdr_ext_table_at(int i) {
 //    C++, which compiles everything; glsl_gen drops the regions a specialised variant leaves
 //    out (lobes surface, retro, diffuse; era_averaged, era_matched_pair, era_oriented;
 //    prism_ideal, prism_tir, prism_metallized; canted: a cant_angle other than 0; dihedral: a
-//    dihedral_error other than 0).
+//    dihedral_error other than 0; node: the node itself, kept by every variant of the node and
+//    left out of the baseline's library, which takes the guards and constants, the dielectric
+//    Fresnel factor and the shading frame from here: nodes/mrm_core.inc).
 //
 // Conventions (MODEL.md section 0): local frame n = +z, t = +x; wi and wo unit vectors pointing
 // away from the surface (wi toward the light, wo toward the viewer); f in 1/sr without the
@@ -2973,6 +2975,7 @@ bool rp_to_local(vec3 fN, vec3 fT, vec3 fB, vec3 w, out vec3 local) {
     local = vec3(dot(u, fT), dot(u, fB), dot(u, fN));
     return true;
 }
+
 
 // ---- Per-direction state shared by eval, pdf and sample ---------------------------------
 
