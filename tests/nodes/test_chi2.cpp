@@ -400,13 +400,15 @@ Chi2Result run_case(const Chi2Case& cs) {
     const f64::rp_material m = retroprism::prepare_material(sane);
     f64::rp_incident s;
     f64::rp_incident_setup(m, wi, s);
-    // Isotropic lobe: alphaPar == alphaPerp; a ring of spots (dihedral errors) of scaled radius
-    // ringRadius widens it to about (1 + ringRadius) alphaPar.
+    // The retro lobe's widths alphaPar along the plane of incidence (e1) and alphaPerp across
+    // it; a ring of spots (dihedral errors) of scaled radius ringRadius widens both by about
+    // (1 + ringRadius); at grazing incidence its ellipse is far longer along than across.
     const double retroWidth = s.alphaPar * (1.0 + s.ringRadius);
+    const double retroRatio = s.alphaPerp / s.alphaPar;
 
     int centreKind = cs.kind == kMixture ? (cs.centre == 0 ? kSurface : kRetro) : cs.kind;
     Grid g = centreKind == kSurface ? make_grid(mirror, surfWidth, surfRatio, false)
-             : centreKind == kRetro ? make_grid(wi, retroWidth, 1.0, false)
+             : centreKind == kRetro ? make_grid(wi, retroWidth, retroRatio, false)
                                     : make_grid(dvec3(0, 0, 1), 1.0, 1.0, true);
     res.cells = g.cells() + 1;
 
@@ -455,9 +457,9 @@ Chi2Result run_case(const Chi2Case& cs) {
             gb.coords(-wi, t, p);
             cellsBelow = integrate_grid(gb, pdf, -wi.z, zhi, {{t, p, 6.0 * surfWidth}}, res.quad);
         } else if (k == kRetro) {
-            cellsBelow =
-                integrate_grid(make_grid(wi, inc.alphaPar * (1.0 + inc.ringRadius), 1.0, false),
-                               pdf, -2.0, zhi, {}, res.quad);
+            cellsBelow = integrate_grid(make_grid(wi, inc.alphaPar * (1.0 + inc.ringRadius),
+                                                  inc.alphaPerp / inc.alphaPar, false),
+                                        pdf, -2.0, zhi, {}, res.quad);
         } else {
             cellsBelow = integrate_grid(make_grid(dvec3(0, 0, 1), 1.0, 1.0, true), pdf, -2.0, zhi,
                                         {}, res.quad);

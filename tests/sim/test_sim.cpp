@@ -66,6 +66,14 @@ std::uint64_t fate_sum(const sim::Tally& t) {
     return s;
 }
 
+// A square window of 70 x 70 gnomonic cells about wi, half-width `half` in slope, in the retro
+// lobe's frame (along and across the plane of incidence).
+sim::Grid retro_window(const dvec3& wi, double half) {
+    dvec3 ePar, ePerp;
+    sim::lobe_frame(wi, ePar, ePerp);
+    return sim::gnomonic_grid("retro", wi, ePar, ePerp, half, half, 70, 70);
+}
+
 // Standard normal two-sided tail bound: |z| beyond this has probability below 1e-4.
 const double kZ4 = 3.891;
 
@@ -627,10 +635,8 @@ TEST_CASE("Dihedral errors: the node's retro lobe widens as the simulated one do
     int cases = 0;
     for (double thetaDeg : {0.0, 30.0, 50.0}) {
         const dvec3 wi = dir_deg(thetaDeg, 25.0);
-        dvec3 ePar, ePerp;
-        sim::lobe_frame(wi, ePar, ePerp);
         const double half = 0.07;
-        const sim::Grid g = sim::gnomonic_grid("retro", wi, ePar, ePerp, half, half, 70, 70);
+        const sim::Grid g = retro_window(wi, half);
         for (int withRing = 0; withRing < 2; ++withRing) {
             Params p = sheet_params(roughness, eta, f64::RP_PRISM_IDEAL, 0.9);
             p.dihedral_error = withRing ? deltaArcmin : 0.0;
@@ -685,6 +691,99 @@ TEST_CASE("Dihedral errors: the node's retro lobe widens as the simulated one do
                 "of its retro light within three radii: the simulated share there\n%sworst "
                 "|difference| with the ring %.3f\n",
                 deltaArcmin, roughness, eta, table.c_str(), worst);
+}
+
+TEST_CASE("Dihedral errors: the retro lobe's spread along and across the plane of incidence",
+          "[sim]") {
+    // The exit refraction magnifies the spots' deviations by eta cos_t / cos_i along the plane of
+    // incidence and by eta across it, so at oblique incidence the ring of spots is an ellipse
+    // (docs/dihedral.md). Two sheets: the one of the test above (ideal prisms, roughness 0.01,
+    // 10 arcmin) and one like the DG983 preset (metallised, roughness 0.008, 4 arcmin, cant
+    // -11 deg), each with the anisotropic retro lobe and with the paper's isotropic one. For
+    // each axis, the share of the simulated retro light, within slope 0.035 of wi, inside the
+    // strips |s_par| < x (and |s_perp| < y) where the node holds 25%, 50%, 75% and 90% of its own
+    // (R_A is read at observation angles along the plane of incidence, so the spread along it is
+    // what the standards measure). Tolerance, plus 4 binomial standard errors: anisotropic lobe
+    // 0.035 in share, the ring's limit (the spots' unequal energies; measured worst 0.030, ideal
+    // prisms at 50 deg); isotropic lobe 0.08, the perfect cube's own error added (its single
+    // width is too narrow along the plane of incidence and too wide across, the accuracy study:
+    // the same strips without the ring measured 0.108 at 50 deg, with it 0.068). A circle of the
+    // spots' total second moment in place of the ellipse measured 0.113 (isotropic, ideal prisms,
+    // 50 deg, across).
+    struct Sheet {
+        const char* name;
+        double roughness, eta, delta, cant;
+        int prism, anisotropic;
+    };
+    const Sheet sheets[] = {{"ideal 10' a", 0.01, 1.49, 10.0, 0.0, f64::RP_PRISM_IDEAL, 1},
+                            {"DG983-like a", 0.008, 1.49, 4.0, -11.0, f64::RP_PRISM_METALLIZED, 1},
+                            {"ideal 10' i", 0.01, 1.49, 10.0, 0.0, f64::RP_PRISM_IDEAL, 0},
+                            {"DG983-like i", 0.008, 1.49, 4.0, -11.0, f64::RP_PRISM_METALLIZED, 0}};
+    std::string table;
+    double worst = 0;
+    int cases = 0;
+    for (const Sheet& sheet : sheets)
+        for (double thetaDeg : {0.0, 30.0, 50.0}) {
+            const dvec3 wi = dir_deg(thetaDeg, 25.0);
+            const sim::Grid g = retro_window(wi, 0.035);
+            Params p = sheet_params(sheet.roughness, sheet.eta, sheet.prism, 0.9);
+            p.dihedral_error = sheet.delta;
+            p.cant_angle = sheet.cant;
+            p.retro_lobe = sheet.anisotropic;
+            const sim::Run r = run_sim(sim::sheet_from_params(p), wi, {g}, 300000, 307 + cases++);
+            const sim::CellIntegrals ci =
+                sim::integrate_cells(g, 3, sim::model_function(p, wi), {}, 3, 3);
+            // |s_par|, |s_perp|, simulated count, node's f cos, per cell of the window.
+            std::vector<std::array<double, 4>> cells;
+            double simAll = 0, nodeAll = 0;
+            for (int cell = 0; cell < g.cells(); ++cell) {
+                const double x = g.x0 + (cell % g.nx + 0.5) * (g.x1 - g.x0) / g.nx;
+                const double y = g.y0 + (cell / g.nx + 0.5) * (g.y1 - g.y0) / g.ny;
+                const double c =
+                    double(r.tally.counts[0][size_t(cell) * sim::kChannels + sim::kRetro]);
+                const double v = ci.values[size_t(cell) * 3 + 1];
+                cells.push_back({std::abs(x), std::abs(y), c, v});
+                simAll += c;
+                nodeAll += v;
+            }
+            REQUIRE(simAll > 0);
+            char line[300];
+            int len =
+                std::snprintf(line, sizeof line, "  %-12s theta_i %4.1f:", sheet.name, thetaDeg);
+            for (int axis = 0; axis < 2; ++axis) {
+                std::sort(cells.begin(), cells.end(),
+                          [axis](const std::array<double, 4>& a, const std::array<double, 4>& b) {
+                              return a[size_t(axis)] < b[size_t(axis)];
+                          });
+                len += std::snprintf(line + len, sizeof line - size_t(len), " %s",
+                                     axis == 0 ? "along" : " across");
+                double node = 0, simIn = 0;
+                size_t i = 0;
+                for (double q : {0.25, 0.5, 0.75, 0.9}) {
+                    while (i < cells.size() && node + cells[i][3] <= q * nodeAll) {
+                        node += cells[i][3];
+                        simIn += cells[i][2];
+                        ++i;
+                    }
+                    // Cells with equal |s| (mirror pairs) enter one by one: the node's share
+                    // is its own at the strip reached, within a cell column's share of q.
+                    const double share = simIn / simAll, want = node / nodeAll;
+                    const double se = std::sqrt(q * (1 - q) / simAll);
+                    len +=
+                        std::snprintf(line + len, sizeof line - size_t(len), " %.3f", share - want);
+                    INFO(line);
+                    const double tol = sheet.anisotropic ? 0.035 : 0.08;
+                    CHECK(std::abs(share - want) <= tol + kZ4 * se);
+                    worst = std::max(worst, std::abs(share - want));
+                }
+            }
+            std::snprintf(line + len, sizeof line - size_t(len), "\n");
+            table += line;
+        }
+    std::printf("MEASURED: dihedral errors, the simulated share of retro light minus the node's "
+                "within the strips along and across the plane of incidence where the node holds "
+                "25%%, 50%%, 75%%, 90%% of its own:\n%sworst |difference| %.3f\n",
+                table.c_str(), worst);
 }
 
 TEST_CASE("Single scattering on the rough top surface is the analytic surface lobe", "[sim]") {

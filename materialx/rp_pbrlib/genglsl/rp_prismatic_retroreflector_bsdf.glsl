@@ -3095,15 +3095,29 @@ void rp_incident_lobes(in rp_material m, vec3 wi, out rp_incident s) {
     s.invAlphaPerp2 = invPerp * invPerp;
     s.retroNorm = RP_INV_PI * invPar * invPerp;
     if (m.dihedral != 0) {
-        // docs/dihedral.md: the ring's inner second moments (rp_prepare) carried out by the exit
+        // docs/dihedral.md: the spots' inner second moments (rp_prepare) carried out by the exit
         // refraction, which magnifies deviations by eta cos_t / cos_i in the plane of incidence
-        // and by eta across it (eta^2 sin^2(theta_t) = sin^2(theta_i)), in the scaled slopes; the
-        // ring of the same total second moment has this radius.
+        // and by eta across it (eta^2 sin^2(theta_t) = sin^2(theta_i)), in the scaled slopes:
+        // mPar along the plane of incidence, mPerp across it. The lobe is the rough Gaussian
+        // averaged over a ring of radius r, r^2 = mPar + mPerp, stretched by kPar along and kPerp
+        // across (kPar^2 + kPerp^2 = 2) so that its second moment along each axis,
+        // k^2 (1 + r^2) / 2, is the rough Gaussian's 1 / 2 plus the spots' own: an ellipse of
+        // spots, as the exit refraction draws it, still a normalised density (a stretched one).
         float magPar = m.eta * cosThetaT * s.invCosI * invPar;
-        float perp2 = invPerp * invPerp;
-        float r2 = m.ring_par * (magPar * magPar + m.eta * m.eta * perp2) -
-                  m.ring_tilt * sinThetaI * sinThetaI * perp2;
-        s.ringRadius = sqrt(max(r2, float(0.0)));
+        float mPar = m.ring_par * magPar * magPar;
+        float mPerp = max((m.eta * m.eta * m.ring_par - m.ring_tilt * sinThetaI * sinThetaI) *
+                             (invPerp * invPerp),
+                         float(0.0));
+        float r2 = mPar + mPerp;
+        float inv1r2 = float(1.0) / (float(1.0) + r2);
+        float kPar2 = (float(1.0) + float(2.0) * mPar) * inv1r2;
+        float kPerp2 = (float(1.0) + float(2.0) * mPerp) * inv1r2;
+        s.alphaPar *= sqrt(kPar2);
+        s.alphaPerp *= sqrt(kPerp2);
+        s.invAlphaPar2 /= kPar2;
+        s.invAlphaPerp2 /= kPerp2;
+        s.retroNorm /= sqrt(kPar2 * kPerp2);
+        s.ringRadius = sqrt(r2);
     }
 }
 
