@@ -115,6 +115,10 @@ MxShaders generated_shaders(const std::string& dataDir, const std::string& docum
 
 } // namespace
 
+const char* mx_query_document() {
+    return kDocument;
+}
+
 MaterialXRunner::MaterialXRunner(const std::string& sourceDir, const std::string& document,
                                  const std::string& material, const std::string& node,
                                  bool portable)

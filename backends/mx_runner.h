@@ -58,6 +58,10 @@ struct MxGenerateOptions {
 // MaterialX's messages when a document fails.
 void generate_mx_shaders(const std::string& data_dir, const std::vector<std::string>& documents,
                          const std::string& out_dir, const MxGenerateOptions& options = {});
+// The document of one node with its default inputs: material "rp_query", surface
+// "rp_query_surface", node "rp_query_bsdf".
+const char* mx_query_document();
+
 // The GLSL pair of `material` in a folder that generate_mx_shaders wrote.
 MxShaders read_mx_shaders(const std::string& dir, const std::string& material);
 

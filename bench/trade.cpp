@@ -129,7 +129,8 @@ std::vector<GlslCost> glsl_costs() {
     std::vector<GlslCost> out;
     for (const glsl::Variant& v : glsl::standard_variants()) {
         const std::string lib = embedded_variant(v.name);
-        const long instr = glsl::spirv_instructions(lib, v.name);
+        long constants = -1;
+        const long instr = glsl::spirv_instructions(lib, v.name, &constants);
         gl::Runner runner(lib);
         Params p;
         if (v.era_mode >= 0) p.era_mode = v.era_mode;
@@ -140,7 +141,7 @@ std::vector<GlslCost> glsl_costs() {
         runner.evaluate(p, pairs);
         const double secs =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        out.push_back({v.name, instr, n / secs});
+        out.push_back({v.name, instr, constants, n / secs});
     }
     return out;
 }

@@ -54,6 +54,7 @@ void simulator_errors(const Row& row, const std::vector<SimConfig>& study, Resul
 struct GlslCost {
     std::string variant;
     long spirvInstructions = -1;
+    long spirvConstants = -1; // of spirvInstructions, those declaring constants (table data)
     double evalsPerSecond = 0;
 };
 std::vector<GlslCost> glsl_costs();

@@ -20,6 +20,7 @@
 #include "parse.h"
 #include "paths.h"
 #include "plot.h"
+#include "mx_cost.h"
 #include "trade.h"
 
 namespace retroprism {
@@ -60,21 +61,56 @@ std::string fmt_err(double e) {
     return b;
 }
 
-// The GLSL variants' cost, as a table or JSON.
+// The GLSL variants' cost and MaterialX's own generated shaders' (bench/mx_cost.h), as tables
+// or JSON, each SPIR-V size also as a ratio to MaterialX's dielectric + Oren-Nayar shader's:
+// over all instructions, and over the code alone (without the constants' declarations, where
+// the node's tables are).
 void print_glsl_costs(bool json) {
-    nlohmann::json rows = nlohmann::json::array();
-    if (!json)
-        std::printf("\n%-52s %14s %16s\n", "GLSL variant", "SPIR-V instr.", "llvmpipe eval/s");
-    for (const bench::GlslCost& c : bench::glsl_costs()) {
+    const std::vector<bench::GlslCost> variants = bench::glsl_costs();
+    const std::vector<bench::MxShaderCost> mx = bench::mx_shader_costs(data_dir());
+    long baseAll = -1, baseCode = -1;
+    for (const bench::MxShaderCost& c : mx)
+        if (c.material == "dielectric_oren_nayar") {
+            baseAll = c.spirvInstructions;
+            baseCode = c.spirvInstructions - c.spirvConstants;
+        }
+    auto ratio = [](long n, long base) { return base > 0 && n > 0 ? double(n) / base : 0.0; };
+    nlohmann::json rows = nlohmann::json::array(), mxRows = nlohmann::json::array();
+    const char* head = "\n%-52s %14s %10s %9s %9s %16s\n";
+    const char* row = "%-52s %14ld %10ld %9.3f %9.3f %16.3g\n";
+    auto add = [&](nlohmann::json& rowsOut, const std::string& key, const std::string& name,
+                   long all, long constants, const char* rateKey, double rate) {
+        const double rAll = ratio(all, baseAll), rCode = ratio(all - constants, baseCode);
         if (json)
-            rows.push_back({{"variant", c.variant},
-                            {"spirv_instructions", c.spirvInstructions},
-                            {"llvmpipe_evals_per_second", c.evalsPerSecond}});
+            rowsOut.push_back({{key, name},
+                               {"spirv_instructions", all},
+                               {"spirv_constants", constants},
+                               {"ratio_to_mx_dielectric_oren_nayar", rAll},
+                               {"code_ratio_to_mx_dielectric_oren_nayar", rCode},
+                               {rateKey, rate}});
         else
-            std::printf("%-52s %14ld %16.3g\n", c.variant.c_str(), c.spirvInstructions,
-                        c.evalsPerSecond);
-    }
-    if (json) std::printf("%s\n", nlohmann::json{{"glsl", rows}}.dump(2).c_str());
+            std::printf(row, name.c_str(), all, constants, rAll, rCode, rate);
+    };
+    if (!json)
+        std::printf(head, "GLSL variant", "SPIR-V instr.", "constants", "x MX all", "x MX code",
+                    "llvmpipe eval/s");
+    for (const bench::GlslCost& c : variants)
+        add(rows, "variant", c.variant, c.spirvInstructions, c.spirvConstants,
+            "llvmpipe_evals_per_second", c.evalsPerSecond);
+    if (!json)
+        std::printf(head, "MaterialX 1.39.4's generated fragment shader", "SPIR-V instr.",
+                    "constants", "x MX all", "x MX code", "llvmpipe pixel/s");
+    for (const bench::MxShaderCost& c : mx)
+        add(mxRows, "material", c.material, c.spirvInstructions, c.spirvConstants,
+            "llvmpipe_pixels_per_second", c.pixelsPerSecond);
+    if (json)
+        std::printf("%s\n", nlohmann::json{{"glsl", rows}, {"materialx", mxRows}}.dump(2).c_str());
+    else
+        std::printf("(x MX: SPIR-V instructions after spirv-opt -O over those of MaterialX's "
+                    "fragment shader for dielectric_bsdf over oren_nayar_diffuse_bsdf, all of "
+                    "them or the code alone, without the constants' declarations; MaterialX's "
+                    "shaders are whole surface shaders, timed per pixel of the same 512 x 512 "
+                    "plane under one directional light)\n");
 }
 
 void write_plot(const std::vector<Result>& results, const std::string& path) {

@@ -385,31 +385,42 @@ std::vector<Variant> standard_variants() {
     return out;
 }
 
-// SPIR-V instructions of a variant's fragment wrapper after spirv-opt -O, counted from
-// spirv-dis's listing; -1 when the tools fail.
-long spirv_instructions(const std::string& library, const std::string& name) {
+// SPIR-V instructions of a shader after spirv-opt -O, counted from spirv-dis's listing; -1
+// when the tools fail.
+long spirv_instructions_of(const std::string& source, const std::string& stage,
+                           const std::string& name, long* constants) {
     namespace fs = std::filesystem;
     const fs::path dir =
         fs::temp_directory_path() / ("retroprism_spirv_" + std::to_string(::getpid()));
     fs::create_directories(dir);
-    const fs::path frag = dir / (name + ".frag"), spv = dir / (name + ".spv"),
+    const fs::path src = dir / (name + "." + stage), spv = dir / (name + ".spv"),
                    opt = dir / (name + "_opt.spv");
-    std::ofstream(frag) << wrap_fragment(library, Target::Vulkan);
-    const std::string cmd = "glslangValidator -V -o " + spv.string() + " " + frag.string() +
+    std::ofstream(src) << source;
+    const std::string cmd = "glslangValidator -V -o " + spv.string() + " " + src.string() +
                             " >/dev/null 2>&1 && spirv-opt -O " + spv.string() + " -o " +
                             opt.string() + " && spirv-dis --raw-id " + opt.string();
     FILE* p = popen(cmd.c_str(), "r");
     if (!p) return -1;
-    long count = 0;
+    long count = 0, constantCount = 0;
     char line[4096];
     while (std::fgets(line, sizeof line, p)) {
         std::string l = line;
         size_t op = l.find("Op");
-        if (op != std::string::npos && l.find(';') != 0) ++count;
+        if (op == std::string::npos || l.find(';') == 0) continue;
+        ++count;
+        if (l.compare(op, 10, "OpConstant") == 0 || l.compare(op, 14, "OpSpecConstant") == 0)
+            ++constantCount;
     }
     int st = pclose(p);
     fs::remove_all(dir);
-    return WIFEXITED(st) && WEXITSTATUS(st) == 0 ? count : -1;
+    const bool ok = WIFEXITED(st) && WEXITSTATUS(st) == 0;
+    if (constants) *constants = ok ? constantCount : -1;
+    return ok ? count : -1;
+}
+
+// SPIR-V instructions of a variant's fragment wrapper.
+long spirv_instructions(const std::string& library, const std::string& name, long* constants) {
+    return spirv_instructions_of(wrap_fragment(library, Target::Vulkan), "frag", name, constants);
 }
 
 std::string generate_cpp_core(const Variant& v, const std::string& sourceDir) {

@@ -67,7 +67,14 @@ std::vector<std::pair<std::string, std::string>> generate_materialx(const std::s
 // The relative cost of a generated library: the instructions of its Vulkan fragment wrapper
 // after `spirv-opt -O` (glslangValidator, spirv-opt and spirv-dis on the PATH; constants and
 // the tables' data included), or -1 when the tools fail.
-long spirv_instructions(const std::string& library, const std::string& name);
+long spirv_instructions(const std::string& library, const std::string& name,
+                        long* constants = nullptr);
+// The instructions of a whole shader for Vulkan (`stage` as glslangValidator names it: frag,
+// vert, comp) after `spirv-opt -O`, counted as above; -1 when the tools fail. `constants`, when
+// given, receives how many of them declare constants (OpConstant, OpConstantComposite, ...: the
+// tables' data among them), the rest being code, types and declarations.
+long spirv_instructions_of(const std::string& source, const std::string& stage,
+                           const std::string& name, long* constants = nullptr);
 
 // The entry point's GLSL signature: the node inputs in table order, then the directions.
 std::string entry_signature();
