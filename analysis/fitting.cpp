@@ -24,13 +24,6 @@ constexpr double kFwhmToSigma = 1.0 / 2.3548200450309493; // 1 / (2 sqrt(2 ln 2)
 constexpr double kAlphaMin = 1e-3, kAlphaMax = 1.0;
 constexpr double kEtaMin = 1.01, kEtaMax = 3.0;
 
-double sigmoid(double u) {
-    return 1.0 / (1.0 + std::exp(-u));
-}
-double logit(double t) {
-    return std::log(t / (1.0 - t));
-}
-
 // The weights and the floor epsilon of the objective (see fitting.h).
 struct Weighting {
     std::vector<double> w; // sums to 1
@@ -78,8 +71,15 @@ double sigma_rad(const FitOptions& o) {
 
 using Basis3 = std::array<double, 3>;
 
-Params unit_params(double alpha, double eta, int mode) {
+// The sheeting geometry inputs: cant_angle (degrees) and dihedral_error (arcminutes).
+struct Geometry {
+    double cant_angle = 0, dihedral_error = 0;
+};
+
+Params unit_params(double alpha, double eta, int mode, const Geometry& geo) {
     Params p;
+    p.cant_angle = geo.cant_angle;
+    p.dihedral_error = geo.dihedral_error;
     p.roughness = std::clamp(alpha, 0.0, 1.0);
     p.ior = eta;
     p.prism_reflection = mode;
@@ -94,8 +94,8 @@ Params unit_params(double alpha, double eta, int mode) {
 // per group instead of once per sample as PrismaticRetroreflector::eval would (E of uncoated
 // prisms is an exact azimuth integral). The values are eval's: the directions are already in
 // the local frame (default normal and tangent).
-std::vector<Basis3> node_basis(double alpha, double eta, int mode, const FitData& d,
-                               const FitOptions& o) {
+std::vector<Basis3> node_basis(double alpha, double eta, int mode, const Geometry& geo,
+                               const FitData& d, const FitOptions& o) {
     const double sigma = sigma_rad(o);
     // Per group: the material for the surface lobe (alpha_s) and for the retro and diffuse
     // lobes (alpha_r), and their incident states; without blur both are the material itself.
@@ -113,8 +113,8 @@ std::vector<Basis3> node_basis(double alpha, double eta, int mode, const FitData
         const double alphaR =
             k > 1e-9 ? std::sqrt(alpha * alpha + 2.0 * sigma * sigma / (k * k)) : kAlphaMax;
         Group& gr = groups[g];
-        gr.ms = prepare_material(sanitize(unit_params(sigma > 0 ? alphaS : alpha, eta, mode)));
-        gr.mr = prepare_material(sanitize(unit_params(sigma > 0 ? alphaR : alpha, eta, mode)));
+        gr.ms = prepare_material(sanitize(unit_params(sigma > 0 ? alphaS : alpha, eta, mode, geo)));
+        gr.mr = prepare_material(sanitize(unit_params(sigma > 0 ? alphaR : alpha, eta, mode, geo)));
         const f64::vec3 wi(std::sin(thetaI), 0.0, cosI);
         f64::rp_incident_setup(gr.ms, wi, gr.ss);
         f64::rp_incident_setup(gr.mr, wi, gr.sr);
@@ -234,36 +234,64 @@ Inner solve_inner(const Model& model, int n, std::array<double, 3> c,
     return best;
 }
 
-// Multi-start Nelder-Mead over (alpha, eta) in logistic coordinates (alpha alone when
-// fixedEta > 0), restarted from the best point until it improves by less than 1e-9 relative
-// (at most 4 restarts). Returns x = {alpha, eta}.
-NmResult search_shape(const std::function<double(double, double)>& cost, double fixedEta) {
-    auto toAlpha = [](double u) { return kAlphaMin + (kAlphaMax - kAlphaMin) * sigmoid(u); };
-    auto toEta = [&](const std::vector<double>& x) {
-        return fixedEta > 0 ? fixedEta : kEtaMin + (kEtaMax - kEtaMin) * sigmoid(x[1]);
-    };
-    auto f = [&](const std::vector<double>& x) { return cost(toAlpha(x[0]), toEta(x)); };
-    auto uOf = [](double a) { return logit((a - kAlphaMin) / (kAlphaMax - kAlphaMin)); };
-    auto vOf = [](double e) { return logit((e - kEtaMin) / (kEtaMax - kEtaMin)); };
-    NmResult best;
-    int evals = 0;
-    for (double a0 : {0.01, 0.05, 0.2}) {
-        std::vector<double> x0 = {uOf(a0)};
-        if (!(fixedEta > 0)) x0.push_back(vOf(1.5));
-        NmResult r = nelder_mead(f, x0, 0.7, 120);
-        evals += r.evaluations;
-        if (r.f < best.f) best = r;
+// The searched shape parameters: alpha, then eta unless fixed (fixedEta > 0), then the
+// geometry inputs when `geometry` (the node's cant_angle and dihedral_error in their RP_FIT
+// ranges). ShapeSearch::value maps a point of the search to them.
+struct ShapeSearch {
+    std::vector<BoxVar> box;
+    std::vector<std::vector<double>> starts;
+    double fixedEta = 0;
+    bool geometry = false;
+
+    double alpha(const std::vector<double>& x) const { return x[0]; }
+    double eta(const std::vector<double>& x) const { return fixedEta > 0 ? fixedEta : x[1]; }
+    Geometry geo(const std::vector<double>& x) const {
+        const size_t k = fixedEta > 0 ? 1 : 2;
+        return geometry ? Geometry{x[k], x[k + 1]} : Geometry{};
     }
-    for (int restart = 0; restart < 4; ++restart) {
-        NmResult r = nelder_mead(f, best.x, 0.3, 120);
-        evals += r.evaluations;
-        const bool better = r.f < best.f * (1.0 - 1e-9);
-        if (r.f < best.f) best = r;
-        if (!better) break;
+};
+
+BoxVar fit_range(const char* name) {
+    for (const FitInfo& f : fit_table())
+        if (f.param->name == name) return {f.lo, f.hi, f.scale == FitScale::Log};
+    return {0.0, 0.0, false}; // not reached: the parameter table fits both geometry inputs
+}
+
+// The paper's geometry (cant 0, dihedral error 0): alpha, and eta unless fixed, from alpha
+// 0.01, 0.05 and 0.2 with eta 1.5. With the geometry: all four from the paper geometry's optimum
+// `shape` (alpha, eta) with the paper's geometry, with the dihedral error at the centre of its
+// range, and with that and the cant at 12% and 88% of its range (logistic coordinates -2 and
+// +2), so the search does not hinge on leaving the border dihedral_error = 0.
+ShapeSearch shape_search(double fixedEta, const std::vector<double>* shape = nullptr) {
+    ShapeSearch s;
+    s.fixedEta = fixedEta;
+    s.geometry = shape != nullptr;
+    s.box.push_back({kAlphaMin, kAlphaMax, false});
+    if (!(fixedEta > 0)) s.box.push_back({kEtaMin, kEtaMax, false});
+    if (!s.geometry) {
+        for (double a0 : {0.01, 0.05, 0.2}) {
+            std::vector<double> x = {a0};
+            if (!(fixedEta > 0)) x.push_back(1.5);
+            s.starts.push_back(x);
+        }
+        return s;
     }
-    best.evaluations = evals;
-    best.x = {toAlpha(best.x[0]), toEta(best.x)};
-    return best;
+    const BoxVar cant = fit_range("cant_angle"), dihedral = fit_range("dihedral_error");
+    s.box.push_back(cant);
+    s.box.push_back(dihedral);
+    const double d0 = box_value(dihedral, 0.0);
+    for (const std::vector<double>& g : std::vector<std::vector<double>>{
+             {0.0, 0.0}, {0.0, d0}, {box_value(cant, -2.0), d0}, {box_value(cant, 2.0), d0}}) {
+        std::vector<double> x = *shape;
+        x.insert(x.end(), g.begin(), g.end());
+        s.starts.push_back(x);
+    }
+    return s;
+}
+
+// Evaluations per Nelder-Mead run: 120 for (alpha, eta), 60 more per further dimension.
+int shape_evaluations(const ShapeSearch& s) {
+    return 120 + 60 * std::max(int(s.box.size()) - 2, 0);
 }
 
 std::vector<double> log_values(const FitData& d, const Weighting& wt) {
@@ -355,11 +383,14 @@ Params node_params(const NodeFitParams& p) {
     q.retro_color = {p.retro, p.retro, p.retro};
     q.diffuse_color = {p.diffuse, p.diffuse, p.diffuse};
     q.prism_reflection = p.prism_reflection;
+    q.cant_angle = p.cant_angle;
+    q.dihedral_error = p.dihedral_error;
     return q;
 }
 
 std::vector<double> node_values(const NodeFitParams& p, const FitData& d, const FitOptions& o) {
-    const std::vector<Basis3> B = node_basis(p.roughness, p.ior, p.prism_reflection, d, o);
+    const std::vector<Basis3> B =
+        node_basis(p.roughness, p.ior, p.prism_reflection, {p.cant_angle, p.dihedral_error}, d, o);
     const double cd = diffuse_coefficient(p.diffuse, fdr_internal(p.ior));
     std::vector<double> v(B.size());
     for (size_t i = 0; i < B.size(); ++i)
@@ -431,8 +462,8 @@ NodeFit fit_node(const FitData& d, const FitOptions& o) {
     for (int mode = 0; mode < 3; ++mode) {
         std::array<double, 3> warm = {0.5, 0.5, 0.5};
         std::array<double, 3> lastC = warm;
-        auto cost = [&](double alpha, double eta) {
-            const std::vector<Basis3> B = node_basis(alpha, eta, mode, d, o);
+        auto cost = [&](double alpha, double eta, const Geometry& geo) {
+            const std::vector<Basis3> B = node_basis(alpha, eta, mode, geo, d, o);
             const NodeInner model{&B};
             Inner in = solve_inner(model, 3, {0.5, 0.5, 0.5}, logY, wt);
             const Inner in2 = solve_inner(model, 3, warm, logY, wt);
@@ -441,18 +472,41 @@ NodeFit fit_node(const FitData& d, const FitOptions& o) {
             lastC = in.c;
             return in.cost;
         };
-        const NmResult r = search_shape(cost, o.fixed_ior);
-        best.evaluations += r.evaluations;
+        auto run = [&](const ShapeSearch& s) {
+            const NmResult r = search_box(
+                [&](const std::vector<double>& x) { return cost(s.alpha(x), s.eta(x), s.geo(x)); },
+                s.box, s.starts, shape_evaluations(s));
+            best.evaluations += r.evaluations;
+            return r;
+        };
+        // The paper's geometry first, then the geometry from its optimum; the border point
+        // (the paper's geometry) is kept when the search inside the box does not beat it.
+        const ShapeSearch paper = shape_search(o.fixed_ior);
+        const NmResult rp = run(paper);
+        NmResult r = rp;
+        const ShapeSearch* s = &paper;
+        best.paper_objective[mode] = rp.f;
+        ShapeSearch full;
+        if (!o.paper_geometry) {
+            full = shape_search(o.fixed_ior, &rp.x);
+            const NmResult rg = run(full);
+            if (rg.f < rp.f) {
+                r = rg;
+                s = &full;
+            }
+        }
         // The coefficients at the optimum (re-solved there: the last evaluation may be
         // elsewhere).
-        cost(r.x[0], r.x[1]);
+        cost(s->alpha(r.x), s->eta(r.x), s->geo(r.x));
         best.evaluations++;
         best.mode_objective[mode] = r.f;
         if (r.f < bestCost) {
             bestCost = r.f;
             NodeFitParams p;
-            p.roughness = r.x[0];
-            p.ior = r.x[1];
+            p.roughness = s->alpha(r.x);
+            p.ior = s->eta(r.x);
+            p.cant_angle = s->geo(r.x).cant_angle;
+            p.dihedral_error = s->geo(r.x).dihedral_error;
             p.prism_reflection = mode;
             p.specular = lastC[0];
             p.retro = lastC[1];
@@ -478,12 +532,15 @@ MrmFit fit_mrm(const FitData& d, const FitOptions& o) {
         lastC = in.c;
         return in.cost;
     };
-    const NmResult r = search_shape(cost, o.fixed_ior);
-    cost(r.x[0], r.x[1]);
+    const ShapeSearch s = shape_search(o.fixed_ior);
+    const NmResult r =
+        search_box([&](const std::vector<double>& x) { return cost(s.alpha(x), s.eta(x)); }, s.box,
+                   s.starts, shape_evaluations(s));
+    cost(s.alpha(r.x), s.eta(r.x));
     MrmFit fit;
     fit.evaluations = r.evaluations + 1;
-    fit.model.roughness = r.x[0];
-    fit.model.ior = r.x[1];
+    fit.model.roughness = s.alpha(r.x);
+    fit.model.ior = s.eta(r.x);
     fit.model.specular = lastC[0];
     fit.model.tint = glm::dvec3(1.0);
     fit.model.color = glm::dvec3(lastC[1]);

@@ -3,10 +3,12 @@
 //
 // The measured quantity is y = f(wi, wo) cos(theta_o) [1/sr], one channel (colours are fitted
 // grey). What is fitted, and how:
-//  - Node: roughness alpha, ior eta, specular k_s, retro_color c_r, diffuse_color k_d and
+//  - Node: roughness alpha, ior eta, specular k_s, retro_color c_r, diffuse_color k_d,
 //    prism_reflection (ideal | tir | metallized, a discrete choice: each is fitted and the best
-//    kept). Other inputs keep their defaults (era_mode averaged: the data are isotropic;
-//    metal_reflectance 0.88; retro_lobe isotropic; reciprocal false).
+//    kept) and the sheeting geometry: cant_angle and dihedral_error in their ranges of the
+//    parameter table (RP_FIT), or held at 0 (the paper's cube) with paper_geometry. Other inputs
+//    keep their defaults (era_mode averaged: the data are isotropic; metal_reflectance 0.88;
+//    retro_lobe isotropic; reciprocal false).
 //  - Baseline ("mrm"): baselines::RetroreflectiveGGX: GGX roughness, ior, specular weight and a
 //    grey Lambert colour (the exact model is written in nodes/baselines.h).
 //  - Objective: weighted log residuals r = ln(m + eps) - ln(y + eps), eps = floor_fraction x the
@@ -30,10 +32,14 @@
 //  - Optimiser (deterministic): the colours and weights enter linearly (the node: k_s, c_r and
 //    c_d = k_d (1 - F_dr) / (1 - k_d F_dr); the baseline: k_s and k_d up to the layer's k_s k_d
 //    cross term), so for each (alpha, eta) they are solved in [0, 1] by a projected
-//    Levenberg-Marquardt (variable projection); (alpha, eta) are searched by Nelder-Mead in
-//    logistic coordinates (alpha in [0.001, 1], eta in [1.01, 3]) from 3 starts (alpha 0.01,
-//    0.05, 0.2; eta 1.5), restarted from the best until it stops improving. With fixed_ior the
-//    ior is not fitted (alpha alone is searched).
+//    Levenberg-Marquardt (variable projection); the shape inputs are searched by search_box
+//    (util/minimize.h: Nelder-Mead in logistic coordinates, restarted from the best until it
+//    stops improving): first (alpha, eta) with the paper's geometry (alpha in [0.001, 1], eta in
+//    [1.01, 3], linear) from 3 starts (alpha 0.01, 0.05, 0.2; eta 1.5), then (alpha, eta,
+//    cant_angle, dihedral_error) from that optimum with 4 geometries (the paper's; dihedral_error
+//    at the centre of its range; that with the cant at 12% and 88% of its range). The paper's
+//    geometry is kept when the second search does not improve on it, so fitting the geometry
+//    never worsens the fit. With fixed_ior the ior is not searched.
 #pragma once
 
 #include <string>
@@ -69,8 +75,9 @@ struct FitOptions {
     double resolution_fwhm_deg = 1.07;
     double floor_fraction = 0.05;
     double peak_factor = 4.0;
-    double fixed_ior = 0; // > 0: the ior of both models is fixed to this instead of fitted
-    int threads = 0;      // 0: one per core; the results do not depend on it
+    double fixed_ior = 0;        // > 0: the ior of both models is fixed to this instead of fitted
+    int threads = 0;             // 0: one per core; the results do not depend on it
+    bool paper_geometry = false; // true: cant_angle and dihedral_error held at 0, not fitted
 };
 
 // The node's fitted inputs (grey colours).
@@ -81,6 +88,8 @@ struct NodeFitParams {
     double retro = 1.0;   // retro_color
     double diffuse = 0.9; // diffuse_color
     int prism_reflection = 0;
+    double cant_angle = 0;     // degrees
+    double dihedral_error = 0; // arcminutes
 };
 Params node_params(const NodeFitParams& p);
 
@@ -112,8 +121,10 @@ FitReport fit_report(const FitData& d, const std::vector<double>& model, const F
 struct NodeFit {
     NodeFitParams params;
     FitReport report;
-    double mode_objective[3] = {0, 0, 0}; // best objective per prism_reflection
-    int evaluations = 0;                  // (alpha, eta) evaluations
+    double mode_objective[3] = {0, 0, 0};  // best objective per prism_reflection
+    double paper_objective[3] = {0, 0, 0}; // the same with the paper's geometry (cant and
+                                           // dihedral error 0)
+    int evaluations = 0;                   // shape evaluations (alpha, eta, geometry)
 };
 
 struct MrmFit {

@@ -15,31 +15,12 @@ namespace retroprism {
 
 namespace {
 
-// One continuous input of a search: its range, scale and how it is set.
+// One continuous input of a search: its box, its base value and how it is set.
 struct Var {
-    double lo = 0, hi = 1;
-    bool log = false;
+    BoxVar box;
     double start = 0; // the base value
     std::function<void(double)> set;
 };
-
-double sigmoid(double u) {
-    return 1.0 / (1.0 + std::exp(-u));
-}
-
-double value_of(const Var& v, double u) {
-    const double t = sigmoid(u);
-    return v.log ? std::exp(std::log(v.lo) + t * (std::log(v.hi) - std::log(v.lo)))
-                 : v.lo + t * (v.hi - v.lo);
-}
-
-// The logistic coordinate of a value, kept 1e-3 of the range inside it.
-double coordinate_of(const Var& v, double x) {
-    const double a = v.log ? std::log(v.lo) : v.lo, b = v.log ? std::log(v.hi) : v.hi;
-    const double y = v.log ? std::log(std::max(x, 1e-300)) : x;
-    const double t = std::clamp((y - a) / (b - a), 1e-3, 1.0 - 1e-3);
-    return std::log(t / (1.0 - t));
-}
 
 // Six significant digits, as a document written from the value reads it back.
 double round6(double x) {
@@ -48,57 +29,26 @@ double round6(double x) {
     return std::strtod(buf, nullptr);
 }
 
-void set_all(const std::vector<Var>& vars, const std::vector<double>& u, bool rounded) {
-    for (size_t k = 0; k < vars.size(); ++k) {
-        const double x = value_of(vars[k], u[k]);
-        vars[k].set(rounded ? round6(x) : x);
-    }
+void set_all(const std::vector<Var>& vars, const std::vector<double>& x, bool rounded) {
+    for (size_t k = 0; k < vars.size(); ++k)
+        vars[k].set(rounded ? round6(x[k]) : x[k]);
 }
 
-// Minimises cost() over the vars (each set before a call) by Nelder-Mead in logistic
-// coordinates: from the base values, the centre, and the centre with each coordinate moved to
-// either side; then restarted from the best until it improves by less than 1e-9 relative.
+// Minimises cost() over the vars (each set before a call) by search_box (util/minimize.h) from
+// its usual starts: the base values, the centre, and the centre moved to either side along
+// each coordinate.
 NmResult search(const std::vector<Var>& vars, const std::function<double()>& cost) {
-    const size_t n = vars.size();
-    auto f = [&](const std::vector<double>& u) {
-        set_all(vars, u, false);
+    std::vector<BoxVar> box;
+    std::vector<double> base;
+    for (const Var& v : vars) {
+        box.push_back(v.box);
+        base.push_back(v.start);
+    }
+    auto f = [&](const std::vector<double>& x) {
+        set_all(vars, x, false);
         return cost();
     };
-    if (n == 0) {
-        NmResult r;
-        r.f = cost();
-        r.evaluations = 1;
-        return r;
-    }
-    std::vector<std::vector<double>> starts;
-    std::vector<double> base(n), centre(n, 0.0);
-    for (size_t k = 0; k < n; ++k)
-        base[k] = coordinate_of(vars[k], vars[k].start);
-    starts.push_back(base);
-    starts.push_back(centre);
-    for (size_t k = 0; k < n; ++k)
-        for (double side : {-2.0, 2.0}) {
-            std::vector<double> s = centre;
-            s[k] = side;
-            starts.push_back(s);
-        }
-    const int maxEval = 150 + 100 * int(n);
-    NmResult best;
-    int evals = 0;
-    for (const std::vector<double>& s : starts) {
-        const NmResult r = nelder_mead(f, s, 0.7, maxEval);
-        evals += r.evaluations;
-        if (r.f < best.f) best = r;
-    }
-    for (int restart = 0; restart < 4; ++restart) {
-        const NmResult r = nelder_mead(f, best.x, 0.3, maxEval);
-        evals += r.evaluations;
-        const bool better = r.f < best.f * (1.0 - 1e-9);
-        if (r.f < best.f) best = r;
-        if (!better) break;
-    }
-    best.evaluations = evals;
-    return best;
+    return search_box(f, box, box_starts(box, base), 150 + 100 * int(vars.size()));
 }
 
 double log_cost(const RaMeasurements& t, const std::vector<double>& model) {
@@ -147,9 +97,7 @@ void node_search_space(Params& p, std::vector<Var>& vars, std::vector<Choice>& c
             continue;
         }
         Var v;
-        v.lo = f.lo;
-        v.hi = f.hi;
-        v.log = f.scale == FitScale::Log;
+        v.box = {f.lo, f.hi, f.scale == FitScale::Log};
         if (info.type == ParamType::Color) {
             Color3* field = input_field<Color3>(p, info.name);
             v.start = luminance_709(glm::dvec3((*field)[0], (*field)[1], (*field)[2]));
@@ -239,9 +187,9 @@ RaMrmFit fit_ra_mrm(const RaMeasurements& t) {
     RaMrmFit fit;
     baselines::RetroreflectiveGGX m;
     std::vector<Var> vars(3);
-    vars[0] = {1e-4, 1.0, true, m.roughness, [&](double x) { m.roughness = x; }};
-    vars[1] = {1.01, 3.0, false, m.ior, [&](double x) { m.ior = x; }};
-    vars[2] = {0.0, 1.0, false, m.specular, [&](double x) { m.specular = x; }};
+    vars[0] = {{1e-4, 1.0, true}, m.roughness, [&](double x) { m.roughness = x; }};
+    vars[1] = {{1.01, 3.0, false}, m.ior, [&](double x) { m.ior = x; }};
+    vars[2] = {{0.0, 1.0, false}, m.specular, [&](double x) { m.specular = x; }};
     require_rows(t, {"roughness", "ior", "specular"});
     const NmResult r = search(vars, [&] { return log_cost(t, ra_mrm_values(m, t.entries)); });
     set_all(vars, r.x, true);

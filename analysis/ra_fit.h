@@ -13,9 +13,10 @@
 //  - R_A of an entry: luminance Y of f cos(theta_i) cos(theta_o), at its rotation or the mean
 //    over rotations 0 and 90 degrees, by analysis/photometry.h (ra_at_entry).
 //  - Objective: the mean of (ln m - ln y)^2 over the entries, every entry alike.
-//  - Optimiser (deterministic): Nelder-Mead (util/minimize.h) from the base values and from the
-//    centre and both sides of each input's range, restarted from the best until it improves by
-//    less than 1e-9 relative. The fitted values are then rounded to 6 significant digits and
+//  - Optimiser (deterministic): search_box (util/minimize.h, Nelder-Mead in logistic
+//    coordinates, shared with the ALTA fitter) from the base values and from the centre and both
+//    sides of each input's range, restarted from the best until it improves by less than 1e-9
+//    relative. The fitted values are then rounded to 6 significant digits and
 //    the report is that of the rounded values, so that a document written from them gives R_A
 //    exactly as reported.
 #pragma once

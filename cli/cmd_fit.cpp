@@ -66,6 +66,8 @@ json node_json(const NodeFitParams& p) {
     j["diffuse_color"] = q.diffuse_color;
     j["prism_reflection"] =
         enum_values(*find_param("prism_reflection")).at(size_t(p.prism_reflection));
+    j["cant_angle"] = q.cant_angle;
+    j["dihedral_error"] = q.dihedral_error;
     return j;
 }
 
@@ -146,6 +148,11 @@ void print_report(const FitData& d, const AltaData& alta, const FitOptions& o, c
     std::printf("%-20s %-30.4f %-30s\n", "retro_color (grey)", p.retro, "-");
     std::printf("%-20s %-30.4f %-30.4f\n", "diffuse_color (grey)", p.diffuse, m.color.x);
     std::printf("%-20s %-30s %-30s\n", "prism_reflection", modes[p.prism_reflection], "-");
+    const char* held = o.paper_geometry ? " (held)" : "";
+    std::printf("%-20s %-30s %-30s\n", "cant_angle",
+                (plot::fmt("%.4f deg", p.cant_angle) + held).c_str(), "-");
+    std::printf("%-20s %-30s %-30s\n", "dihedral_error",
+                (plot::fmt("%.4f arcmin", p.dihedral_error) + held).c_str(), "-");
     std::printf("%-20s %-30.4f %-30.4f\n", "rel_rms", nf.report.rel_rms, mf.report.rel_rms);
     std::printf("%-20s %-30.4f %-30.4f\n", "log_rms", nf.report.log_rms, mf.report.log_rms);
     std::printf("%-20s %-30.4g %-30.4g\n", "weighted log RMS", std::sqrt(nf.report.objective),
@@ -154,6 +161,11 @@ void print_report(const FitData& d, const AltaData& alta, const FitOptions& o, c
                 "prism_reflection)\n",
                 "node modes", std::sqrt(nf.mode_objective[0]), std::sqrt(nf.mode_objective[1]),
                 std::sqrt(nf.mode_objective[2]));
+    if (!o.paper_geometry)
+        std::printf("%-20s ideal %.4g, tir %.4g, metallized %.4g (the same with cant_angle and "
+                    "dihedral_error 0)\n",
+                    "paper geometry", std::sqrt(nf.paper_objective[0]),
+                    std::sqrt(nf.paper_objective[1]), std::sqrt(nf.paper_objective[2]));
     std::printf("\nper theta_l (rel_rms and log_rms over that angle's samples; peaks: the highest "
                 "measured sample within 3 deg of the retro / mirror direction, and the fits "
                 "there):\n");
@@ -348,7 +360,8 @@ void require_folder(const std::string& option, const std::string& path) {
 int cmd_fit(int argc, const char** argv) {
     OIIO::ArgParse ap;
     ap.intro("retroprism fit: fits the node (roughness, ior, specular, retro_color, "
-             "diffuse_color, prism_reflection) and the MaterialX-style retroreflective GGX "
+             "diffuse_color, prism_reflection, cant_angle, dihedral_error) and the MaterialX-style "
+             "retroreflective GGX "
              "baseline to measured BRDF x cos(theta_v) in the ALTA text format (#PARAM_IN "
              "ISOTROPIC_TL_TV_PROJ_DPHI), weighting peaks and floor alike in log space, with the "
              "instrument's angular resolution as a Gaussian blur. With --ra, fits the inputs the "
@@ -356,7 +369,8 @@ int cmd_fit(int argc, const char** argv) {
              "observation_deg, entrance_deg, ra, optional rotation_deg and presentation_deg) in "
              "log space")
         .usage("retroprism fit DATA.dat [--json] [--plot OUT.png] [--resolution FWHM_DEG] [--ior "
-               "ETA] [--param-out NAME]\n       retroprism fit --ra TABLE.csv [--json] [--plot "
+               "ETA] [--paper-geometry] [--param-out NAME]\n       retroprism fit --ra TABLE.csv "
+               "[--json] [--plot "
                "OUT.png] [--mtlx OUT.mtlx [--name NAME]] [--material BASE.json]\n       retroprism "
                "fit "
                "--ra TABLE.csv --baseline-only [--json]");
@@ -376,6 +390,10 @@ int cmd_fit(int argc, const char** argv) {
         .defaultval("1.07");
     ap.arg("--ior ETA")
         .help("fix the ior of both models (e.g. 1.49 for acrylic) instead of fitting it");
+    ap.arg("--paper-geometry")
+        .help("hold the node's cant_angle and dihedral_error at 0 (the paper's cube) instead of "
+              "fitting them")
+        .store_true();
     ap.arg("--param-out NAME")
         .help("the output of an ALTA file without #PARAM_OUT: INV_STERADIAN_COSINE_FACTOR "
               "(assumed, with a warning, when not given) or INV_STERADIAN");
@@ -400,6 +418,8 @@ int cmd_fit(int argc, const char** argv) {
         for (const char* option : {"ior", "param-out"})
             if (!ap[option].get<std::string>().empty())
                 throw InputError(std::string("--") + option + " goes with ALTA data, not --ra");
+        if (ap["paper-geometry"].get<int>())
+            throw InputError("--paper-geometry goes with ALTA data, not --ra");
         RaFitOutputs out;
         out.plot = plotPath;
         out.json = ap["json"].get<int>() != 0;
@@ -432,6 +452,7 @@ int cmd_fit(int argc, const char** argv) {
         parse_number_in(ap["resolution"].get<std::string>(), "--resolution", 0.0, 10.0);
     if (!ap["ior"].get<std::string>().empty())
         o.fixed_ior = parse_number_in(ap["ior"].get<std::string>(), "--ior", 1.01, 3.0);
+    o.paper_geometry = ap["paper-geometry"].get<int>() != 0;
     const AltaData alta = read_alta(file, ap["param-out"].get<std::string>());
     if (!alta.warning.empty())
         std::fprintf(stderr, "retroprism fit: warning: %s\n", alta.warning.c_str());

@@ -85,4 +85,72 @@ NmResult nelder_mead(const std::function<double(const std::vector<double>&)>& f,
     return r;
 }
 
+double box_value(const BoxVar& v, double u) {
+    const double t = 1.0 / (1.0 + std::exp(-u));
+    return v.log ? std::exp(std::log(v.lo) + t * (std::log(v.hi) - std::log(v.lo)))
+                 : v.lo + t * (v.hi - v.lo);
+}
+
+double box_coordinate(const BoxVar& v, double x) {
+    const double a = v.log ? std::log(v.lo) : v.lo, b = v.log ? std::log(v.hi) : v.hi;
+    const double y = v.log ? std::log(std::max(x, 1e-300)) : x;
+    const double t = std::clamp((y - a) / (b - a), 1e-3, 1.0 - 1e-3);
+    return std::log(t / (1.0 - t));
+}
+
+std::vector<std::vector<double>> box_starts(const std::vector<BoxVar>& vars,
+                                            const std::vector<double>& base) {
+    const size_t n = vars.size();
+    std::vector<double> centre(n);
+    for (size_t k = 0; k < n; ++k)
+        centre[k] = box_value(vars[k], 0.0);
+    std::vector<std::vector<double>> starts = {base, centre};
+    for (size_t k = 0; k < n; ++k)
+        for (double side : {-2.0, 2.0}) {
+            std::vector<double> s = centre;
+            s[k] = box_value(vars[k], side);
+            starts.push_back(s);
+        }
+    return starts;
+}
+
+NmResult search_box(const std::function<double(const std::vector<double>&)>& f,
+                    const std::vector<BoxVar>& vars, const std::vector<std::vector<double>>& starts,
+                    int maxEval, int restarts) {
+    const size_t n = vars.size();
+    std::vector<double> x(n);
+    auto values = [&](const std::vector<double>& u) {
+        for (size_t k = 0; k < n; ++k)
+            x[k] = box_value(vars[k], u[k]);
+        return x;
+    };
+    if (n == 0) {
+        NmResult r;
+        r.f = f({});
+        r.evaluations = 1;
+        return r;
+    }
+    auto g = [&](const std::vector<double>& u) { return f(values(u)); };
+    NmResult best;
+    int evals = 0;
+    for (const std::vector<double>& s : starts) {
+        std::vector<double> u(n);
+        for (size_t k = 0; k < n; ++k)
+            u[k] = box_coordinate(vars[k], s.at(k));
+        const NmResult r = nelder_mead(g, u, 0.7, maxEval);
+        evals += r.evaluations;
+        if (r.f < best.f) best = r;
+    }
+    for (int restart = 0; restart < restarts && !best.x.empty(); ++restart) {
+        const NmResult r = nelder_mead(g, best.x, 0.3, maxEval);
+        evals += r.evaluations;
+        const bool better = r.f < best.f * (1.0 - 1e-9);
+        if (r.f < best.f) best = r;
+        if (!better) break;
+    }
+    best.evaluations = evals;
+    if (!best.x.empty()) best.x = values(best.x);
+    return best;
+}
+
 } // namespace retroprism

@@ -1,7 +1,9 @@
 // [photometry]: the R_A table against direct evaluation and its angle conventions; the
 // MaterialX reader (exact parameters, every error naming the element and its line); the ALTA
 // reader (errors naming file:line, files without #PARAM_OUT); the fitter recovering known
-// parameters of both models from synthetic data; the R_A table reader (every error naming
+// parameters of both models from synthetic data, the sheeting geometry (cant_angle,
+// dihedral_error) included, never fitting worse than with the paper's geometry, and
+// deterministic; the R_A table reader (every error naming
 // file:line and the expected form) and the R_A fit recovering the fittable inputs; `retroprism
 // ra`, `fit --json`, `fit --ra` and `render` end to end (no output on a bad input); a sign's
 // luminance on approach.
@@ -157,6 +159,52 @@ FitData synthetic_geometry() {
             for (double tv = 5.0; tv <= 85.0; tv += 5.0)
                 add(tv, phi);
     }
+    return d;
+}
+
+// The node's fit inputs of the synthetic fits: uncoated prisms (tir), ior 1.55, specular 0.7,
+// retro_color 0.6, diffuse_color 0.5, the paper's geometry, and `roughness`.
+NodeFitParams synthetic_truth(double roughness) {
+    return {roughness, 1.55, 0.7, 0.6, 0.5, 1};
+}
+
+// A fit to synthetic_fit_data(truth) recovers truth. Tolerances (no noise): 1% on roughness and
+// ior; 0.3 degrees of cant and 0.3 arcminutes of dihedral error (1% of their RP_FIT ranges); 0.01
+// on the weights and colours.
+void check_recovered(const NodeFit& f, const NodeFitParams& truth) {
+    CHECK(f.params.prism_reflection == truth.prism_reflection);
+    CHECK(f.params.roughness == Approx(truth.roughness).epsilon(0.01));
+    CHECK(f.params.ior == Approx(truth.ior).epsilon(0.01));
+    CHECK(f.params.cant_angle == Approx(truth.cant_angle).margin(0.3));
+    CHECK(f.params.dihedral_error == Approx(truth.dihedral_error).margin(0.3));
+    CHECK(f.params.specular == Approx(truth.specular).margin(0.01));
+    CHECK(f.params.retro == Approx(truth.retro).margin(0.01));
+    CHECK(f.params.diffuse == Approx(truth.diffuse).margin(0.01));
+    CHECK(f.report.log_rms < 1e-3);
+}
+
+// The fit f of d with o is deterministic, whatever the number of threads: the same bits again
+// with one thread.
+void check_deterministic(const NodeFit& f, const FitData& d, const FitOptions& o) {
+    FitOptions one = o;
+    one.threads = 1;
+    const NodeFit g = fit_node(d, one);
+    CHECK(g.params.roughness == f.params.roughness);
+    CHECK(g.params.ior == f.params.ior);
+    CHECK(g.params.cant_angle == f.params.cant_angle);
+    CHECK(g.params.dihedral_error == f.params.dihedral_error);
+    CHECK(g.params.specular == f.params.specular);
+    CHECK(g.params.retro == f.params.retro);
+    CHECK(g.params.diffuse == f.params.diffuse);
+    CHECK(g.report.objective == f.report.objective);
+}
+
+// synthetic_geometry()'s samples with the values of `truth` (blurred as `o` says).
+FitData synthetic_fit_data(const NodeFitParams& truth, const FitOptions& o) {
+    FitData d = synthetic_geometry();
+    const std::vector<double> v = node_values(truth, d, o);
+    for (size_t i = 0; i < v.size(); ++i)
+        d.samples[i].value = v[i];
     return d;
 }
 
@@ -730,41 +778,19 @@ TEST_CASE("Fit: the forward models are the library's", "[photometry]") {
 }
 
 TEST_CASE("Fit: known parameters are recovered from synthetic data", "[photometry]") {
-    FitData d = synthetic_geometry();
     FitOptions o; // with the default blur, in the data and in the fit
-    NodeFitParams truth;
-    truth.roughness = 0.08;
-    truth.ior = 1.55;
-    truth.specular = 0.7;
-    truth.retro = 0.6;
-    truth.diffuse = 0.5;
-    truth.prism_reflection = 1;
-    const std::vector<double> v = node_values(truth, d, o);
-    for (size_t i = 0; i < v.size(); ++i)
-        d.samples[i].value = v[i];
+    const NodeFitParams truth = synthetic_truth(0.08);
+    FitData d = synthetic_fit_data(truth, o);
     const auto t0 = std::chrono::steady_clock::now();
     const NodeFit f = fit_node(d, o);
     const double secs =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    // Tolerances: 1% on the shape parameters, 0.01 on the weights and colours (no noise).
-    CHECK(f.params.prism_reflection == 1);
-    CHECK(f.params.roughness == Approx(truth.roughness).epsilon(0.01));
-    CHECK(f.params.ior == Approx(truth.ior).epsilon(0.01));
-    CHECK(f.params.specular == Approx(truth.specular).margin(0.01));
-    CHECK(f.params.retro == Approx(truth.retro).margin(0.01));
-    CHECK(f.params.diffuse == Approx(truth.diffuse).margin(0.01));
-    CHECK(f.report.log_rms < 1e-3);
+    check_recovered(f, truth);
     std::printf("MEASURED: node fit on %zu synthetic samples: roughness %.5f (0.08), ior %.5f "
                 "(1.55), specular %.4f, retro %.4f, diffuse %.4f, log_rms %.2e, %.1f s\n",
                 d.samples.size(), f.params.roughness, f.params.ior, f.params.specular,
                 f.params.retro, f.params.diffuse, f.report.log_rms, secs);
-    // Deterministic, whatever the number of threads.
-    FitOptions one = o;
-    one.threads = 1;
-    const NodeFit g = fit_node(d, one);
-    CHECK(g.params.roughness == f.params.roughness);
-    CHECK(g.params.ior == f.params.ior);
-    CHECK(g.params.diffuse == f.params.diffuse);
+    check_deterministic(f, d, o);
 
     // The baseline from its own synthetic data.
     baselines::RetroreflectiveGGX m;
@@ -785,6 +811,37 @@ TEST_CASE("Fit: known parameters are recovered from synthetic data", "[photometr
                 "color %.4f, log_rms %.2e\n",
                 mf.model.roughness, mf.model.ior, mf.model.specular, mf.model.color.x,
                 mf.report.log_rms);
+}
+
+TEST_CASE("Fit: the sheeting geometry is recovered from synthetic data; the paper's geometry "
+          "never fits better; deterministic",
+          "[photometry]") {
+    FitOptions o;
+    NodeFitParams truth = synthetic_truth(0.04);
+    truth.cant_angle = 12.0;
+    truth.dihedral_error = 8.0;
+    const FitData d = synthetic_fit_data(truth, o);
+    const NodeFit f = fit_node(d, o);
+    check_recovered(f, truth);
+    for (int mode = 0; mode < 3; ++mode)
+        CHECK(f.mode_objective[mode] <= f.paper_objective[mode]);
+    // Held at the paper's geometry: the old fit, worse on these data.
+    FitOptions paper = o;
+    paper.paper_geometry = true;
+    const NodeFit p = fit_node(d, paper);
+    CHECK(p.params.cant_angle == 0.0);
+    CHECK(p.params.dihedral_error == 0.0);
+    CHECK(p.report.objective > 100.0 * f.report.objective);
+    for (int mode = 0; mode < 3; ++mode) {
+        CHECK(p.mode_objective[mode] == p.paper_objective[mode]);
+        CHECK(p.paper_objective[mode] == f.paper_objective[mode]);
+    }
+    std::printf("MEASURED: geometry fit on %zu synthetic samples: cant %.4f (12), dihedral %.4f "
+                "(8), roughness %.5f (0.04), ior %.5f (1.55), log_rms %.2e; paper geometry "
+                "log_rms %.3f; %d + %d evaluations\n",
+                d.samples.size(), f.params.cant_angle, f.params.dihedral_error, f.params.roughness,
+                f.params.ior, f.report.log_rms, p.report.log_rms, f.evaluations, p.evaluations);
+    check_deterministic(f, d, o);
 }
 
 TEST_CASE("Fit: the 3M measurement, node against the MaterialX-style baseline", "[photometry]") {

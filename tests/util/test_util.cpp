@@ -1,7 +1,7 @@
 // [util]: the shared pieces every library stands on: the number parser's accepted forms and
 // error texts, the RNG's determinism and uniformity, parallel_for and parallel_ranges visiting
-// every item once whatever the thread count, median, the small linear solver, and where the
-// run-time data is found.
+// every item once whatever the thread count, median, the small linear solver, the fitters' bounded
+// search (search_box), and where the run-time data is found.
 #include <catch2/catch.hpp>
 
 #include <atomic>
@@ -13,6 +13,7 @@
 
 #include "error.h"
 #include "linalg.h"
+#include "minimize.h"
 #include "parallel.h"
 #include "parse.h"
 #include "paths.h"
@@ -148,6 +149,63 @@ TEST_CASE("solve_linear: exact small systems, several right-hand sides, singular
         }
     double S[4] = {1, 2, 2, 4}, sb[2] = {1, 2}, sx[2];
     CHECK_FALSE(solve_linear(2, 1, S, sb, sx));
+}
+
+TEST_CASE("search_box: a known minimum inside the box, one on its border, bounds kept, "
+          "deterministic",
+          "[util]") {
+    // A narrow curved valley with its minimum 0 at (0.3, 2, 25): x linear in [-1, 1], y on a log
+    // scale in [0.1, 10], z linear in [0, 60].
+    const std::vector<BoxVar> box = {{-1.0, 1.0, false}, {0.1, 10.0, true}, {0.0, 60.0, false}};
+    int outside = 0;
+    auto valley = [&](const std::vector<double>& v) {
+        for (size_t k = 0; k < v.size(); ++k)
+            if (!(v[k] >= box[k].lo && v[k] <= box[k].hi)) ++outside;
+        const double a = v[0] - 0.3, b = std::log(v[1] / 2.0), c = (v[2] - 25.0) / 60.0;
+        return 50.0 * (b - a * a) * (b - a * a) + a * a + c * c;
+    };
+    const std::vector<double> base = {-0.9, 0.2, 5.0};
+    const std::vector<std::vector<double>> starts = box_starts(box, base);
+    REQUIRE(starts.size() == 2 + 2 * box.size());
+    CHECK(starts[0] == base);
+    const NmResult r = search_box(valley, box, starts, 450);
+    // Tolerances: the search stops when the simplex is 1e-4 wide in logistic coordinates, about
+    // 2.5e-5 of each range near the centre; 1e-3 of each value is well above that.
+    CHECK(r.x[0] == Approx(0.3).margin(1e-3));
+    CHECK(r.x[1] == Approx(2.0).epsilon(1e-3));
+    CHECK(r.x[2] == Approx(25.0).margin(1e-3 * 60.0));
+    CHECK(r.f < 1e-8);
+    CHECK(outside == 0);
+    // The same starts give the same bits.
+    const NmResult again = search_box(valley, box, starts, 450);
+    CHECK(again.x == r.x);
+    CHECK(again.f == r.f);
+    CHECK(again.evaluations == r.evaluations);
+
+    // A minimum beyond the box (x = 3 > 1, z = -10 < 0): the search ends at the border, inside.
+    auto beyond = [&](const std::vector<double>& v) {
+        for (size_t k = 0; k < v.size(); ++k)
+            if (!(v[k] >= box[k].lo && v[k] <= box[k].hi)) ++outside;
+        return (v[0] - 3.0) * (v[0] - 3.0) + std::log(v[1]) * std::log(v[1]) +
+               (v[2] + 10.0) * (v[2] + 10.0);
+    };
+    const NmResult e = search_box(beyond, box, box_starts(box, base), 450);
+    CHECK(outside == 0);
+    // Tolerances: the logistic coordinate approaches the border as e^-u; 1e-3 of the range is
+    // reached within the evaluations allowed.
+    CHECK(e.x[0] == Approx(1.0).margin(2e-3));
+    CHECK(e.x[0] <= 1.0);
+    CHECK(e.x[1] == Approx(1.0).epsilon(1e-3));
+    CHECK(e.x[2] == Approx(0.0).margin(2e-3 * 60.0));
+    CHECK(e.x[2] >= 0.0);
+
+    // Coordinates and values: inverse of each other inside, clamped 1e-3 of the range inside.
+    CHECK(box_value(box[1], box_coordinate(box[1], 2.0)) == Approx(2.0).epsilon(1e-12));
+    CHECK(box_value(box[2], box_coordinate(box[2], -5.0)) == Approx(0.06).epsilon(1e-9));
+    // No variables: f once at the empty point.
+    const NmResult none = search_box([](const std::vector<double>&) { return 4.0; }, {}, {{}}, 10);
+    CHECK(none.f == 4.0);
+    CHECK(none.evaluations == 1);
 }
 
 TEST_CASE("the run-time data: RETROPRISM_DATA_DIR, else the checkout above the executable",
