@@ -71,15 +71,17 @@ double sigma_rad(const FitOptions& o) {
 
 using Basis3 = std::array<double, 3>;
 
-// The sheeting geometry inputs: cant_angle (degrees) and dihedral_error (arcminutes).
+// The sheeting geometry inputs: cant_angle (degrees), dihedral_error and dihedral_spread
+// (arcminutes).
 struct Geometry {
-    double cant_angle = 0, dihedral_error = 0;
+    double cant_angle = 0, dihedral_error = 0, dihedral_spread = 0;
 };
 
 Params unit_params(double alpha, double eta, int mode, const Geometry& geo) {
     Params p;
     p.cant_angle = geo.cant_angle;
     p.dihedral_error = geo.dihedral_error;
+    p.dihedral_spread = geo.dihedral_spread;
     p.roughness = std::clamp(alpha, 0.0, 1.0);
     p.ior = eta;
     p.prism_reflection = mode;
@@ -235,8 +237,8 @@ Inner solve_inner(const Model& model, int n, std::array<double, 3> c,
 }
 
 // The searched shape parameters: alpha, then eta unless fixed (fixedEta > 0), then the
-// geometry inputs when `geometry` (the node's cant_angle and dihedral_error in their RP_FIT
-// ranges). ShapeSearch::value maps a point of the search to them.
+// geometry inputs when `geometry` (the node's cant_angle, dihedral_error and dihedral_spread in
+// their RP_FIT ranges). ShapeSearch::value maps a point of the search to them.
 struct ShapeSearch {
     std::vector<BoxVar> box;
     std::vector<std::vector<double>> starts;
@@ -247,7 +249,7 @@ struct ShapeSearch {
     double eta(const std::vector<double>& x) const { return fixedEta > 0 ? fixedEta : x[1]; }
     Geometry geo(const std::vector<double>& x) const {
         const size_t k = fixedEta > 0 ? 1 : 2;
-        return geometry ? Geometry{x[k], x[k + 1]} : Geometry{};
+        return geometry ? Geometry{x[k], x[k + 1], x[k + 2]} : Geometry{};
     }
 };
 
@@ -257,11 +259,12 @@ BoxVar fit_range(const char* name) {
     return {0.0, 0.0, false}; // not reached: the parameter table fits both geometry inputs
 }
 
-// The paper's geometry (cant 0, dihedral error 0): alpha, and eta unless fixed, from alpha
-// 0.01, 0.05 and 0.2 with eta 1.5. With the geometry: all four from the paper geometry's optimum
+// The paper's geometry (cant 0, no dihedral errors): alpha, and eta unless fixed, from alpha
+// 0.01, 0.05 and 0.2 with eta 1.5. With the geometry: all from the paper geometry's optimum
 // `shape` (alpha, eta) with the paper's geometry, with the dihedral error at the centre of its
-// range, and with that and the cant at 12% and 88% of its range (logistic coordinates -2 and
-// +2), so the search does not hinge on leaving the border dihedral_error = 0.
+// range, with that and the cant at 12% and 88% of its range (logistic coordinates -2 and +2),
+// and with the dihedral spread at the centre of its range alone, so the search does not hinge
+// on leaving the borders dihedral_error = 0 or dihedral_spread = 0.
 ShapeSearch shape_search(double fixedEta, const std::vector<double>* shape = nullptr) {
     ShapeSearch s;
     s.fixedEta = fixedEta;
@@ -276,12 +279,18 @@ ShapeSearch shape_search(double fixedEta, const std::vector<double>* shape = nul
         }
         return s;
     }
-    const BoxVar cant = fit_range("cant_angle"), dihedral = fit_range("dihedral_error");
+    const BoxVar cant = fit_range("cant_angle"), dihedral = fit_range("dihedral_error"),
+                 spread = fit_range("dihedral_spread");
     s.box.push_back(cant);
     s.box.push_back(dihedral);
-    const double d0 = box_value(dihedral, 0.0);
-    for (const std::vector<double>& g : std::vector<std::vector<double>>{
-             {0.0, 0.0}, {0.0, d0}, {box_value(cant, -2.0), d0}, {box_value(cant, 2.0), d0}}) {
+    s.box.push_back(spread);
+    const double d0 = box_value(dihedral, 0.0), s0 = box_value(spread, 0.0);
+    for (const std::vector<double>& g :
+         std::vector<std::vector<double>>{{0.0, 0.0, 0.0},
+                                          {0.0, d0, 0.0},
+                                          {box_value(cant, -2.0), d0, 0.0},
+                                          {box_value(cant, 2.0), d0, 0.0},
+                                          {0.0, 0.0, s0}}) {
         std::vector<double> x = *shape;
         x.insert(x.end(), g.begin(), g.end());
         s.starts.push_back(x);
@@ -385,12 +394,14 @@ Params node_params(const NodeFitParams& p) {
     q.prism_reflection = p.prism_reflection;
     q.cant_angle = p.cant_angle;
     q.dihedral_error = p.dihedral_error;
+    q.dihedral_spread = p.dihedral_spread;
     return q;
 }
 
 std::vector<double> node_values(const NodeFitParams& p, const FitData& d, const FitOptions& o) {
     const std::vector<Basis3> B =
-        node_basis(p.roughness, p.ior, p.prism_reflection, {p.cant_angle, p.dihedral_error}, d, o);
+        node_basis(p.roughness, p.ior, p.prism_reflection,
+                   {p.cant_angle, p.dihedral_error, p.dihedral_spread}, d, o);
     const double cd = diffuse_coefficient(p.diffuse, fdr_internal(p.ior));
     std::vector<double> v(B.size());
     for (size_t i = 0; i < B.size(); ++i)
@@ -507,6 +518,7 @@ NodeFit fit_node(const FitData& d, const FitOptions& o) {
             p.ior = s->eta(r.x);
             p.cant_angle = s->geo(r.x).cant_angle;
             p.dihedral_error = s->geo(r.x).dihedral_error;
+            p.dihedral_spread = s->geo(r.x).dihedral_spread;
             p.prism_reflection = mode;
             p.specular = lastC[0];
             p.retro = lastC[1];

@@ -5,7 +5,8 @@
 // grey). What is fitted, and how:
 //  - Node: roughness alpha, ior eta, specular k_s, retro_color c_r, diffuse_color k_d,
 //    prism_reflection (ideal | tir | metallized, a discrete choice: each is fitted and the best
-//    kept) and the sheeting geometry: cant_angle and dihedral_error in their ranges of the
+//    kept) and the sheeting geometry: cant_angle, dihedral_error and dihedral_spread in their
+//    ranges of the
 //    parameter table (RP_FIT), or held at 0 (the paper's cube) with paper_geometry. Other inputs
 //    keep their defaults (era_mode averaged: the data are isotropic; metal_reflectance 0.88;
 //    retro_lobe isotropic; reciprocal false).
@@ -36,8 +37,9 @@
 //    (util/minimize.h: Nelder-Mead in logistic coordinates, restarted from the best until it
 //    stops improving): first (alpha, eta) with the paper's geometry (alpha in [0.001, 1], eta in
 //    [1.01, 3], linear) from 3 starts (alpha 0.01, 0.05, 0.2; eta 1.5), then (alpha, eta,
-//    cant_angle, dihedral_error) from that optimum with 4 geometries (the paper's; dihedral_error
-//    at the centre of its range; that with the cant at 12% and 88% of its range). The paper's
+//    cant_angle, dihedral_error, dihedral_spread) from that optimum with 5 geometries (the
+//    paper's; dihedral_error at the centre of its range; that with the cant at 12% and 88% of
+//    its range; dihedral_spread alone at the centre of its range). The paper's
 //    geometry is kept when the second search does not improve on it, so fitting the geometry
 //    never worsens the fit. With fixed_ior the ior is not searched.
 #pragma once
@@ -77,7 +79,7 @@ struct FitOptions {
     double peak_factor = 4.0;
     double fixed_ior = 0;        // > 0: the ior of both models is fixed to this instead of fitted
     int threads = 0;             // 0: one per core; the results do not depend on it
-    bool paper_geometry = false; // true: cant_angle and dihedral_error held at 0, not fitted
+    bool paper_geometry = false; // true: cant_angle and the dihedral errors held at 0, not fitted
 };
 
 // The node's fitted inputs (grey colours).
@@ -88,8 +90,9 @@ struct NodeFitParams {
     double retro = 1.0;   // retro_color
     double diffuse = 0.9; // diffuse_color
     int prism_reflection = 0;
-    double cant_angle = 0;     // degrees
-    double dihedral_error = 0; // arcminutes
+    double cant_angle = 0;      // degrees
+    double dihedral_error = 0;  // arcminutes
+    double dihedral_spread = 0; // arcminutes
 };
 Params node_params(const NodeFitParams& p);
 

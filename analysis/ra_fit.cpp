@@ -77,10 +77,22 @@ struct Choice {
     std::function<void(int)> set;
 };
 
-void node_search_space(Params& p, std::vector<Var>& vars, std::vector<Choice>& choices,
-                       std::vector<std::string>& fitted) {
+void node_search_space(Params& p, const std::vector<std::string>& held, std::vector<Var>& vars,
+                       std::vector<Choice>& choices, std::vector<std::string>& fitted) {
+    std::string fittable;
+    for (const FitInfo& f : fit_table())
+        fittable += std::string(fittable.empty() ? "" : ", ") + f.param->name;
+    for (const std::string& name : held) {
+        bool known = false;
+        for (const FitInfo& f : fit_table())
+            known = known || f.param->name == name;
+        if (!known)
+            throw InputError("--hold " + name +
+                             ": not a fitted input (the fitted inputs: " + fittable + ")");
+    }
     for (const FitInfo& f : fit_table()) {
         const ParamInfo& info = *f.param;
+        if (std::find(held.begin(), held.end(), info.name) != held.end()) continue;
         fitted.push_back(info.name);
         if (f.scale == FitScale::Choice) {
             Choice c;
@@ -146,12 +158,13 @@ RaFitReport ra_fit_report(const RaMeasurements& t, const std::vector<double>& mo
     return r;
 }
 
-RaNodeFit fit_ra_node(const RaMeasurements& t, const Params& base) {
+RaNodeFit fit_ra_node(const RaMeasurements& t, const Params& base,
+                      const std::vector<std::string>& held) {
     Params p = base;
     std::vector<Var> vars;
     std::vector<Choice> choices;
     RaNodeFit fit;
-    node_search_space(p, vars, choices, fit.fitted);
+    node_search_space(p, held, vars, choices, fit.fitted);
     require_rows(t, fit.fitted);
     auto cost = [&] { return log_cost(t, ra_node_values(p, t.entries)); };
     // Every combination of the discrete inputs, a search of the continuous ones for each.

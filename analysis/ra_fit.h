@@ -6,7 +6,8 @@
 //    value) are searched in their declared [lo, hi] (logistic coordinates, on a log scale for
 //    Log inputs), enums and booleans by trying every value (every combination when there are
 //    several; of combinations whose objectives agree within 1e-6 relative, the first in table
-//    order). Inputs not fitted keep the base material's values.
+//    order). Inputs not fitted keep the base material's values, as do the fittable inputs
+//    the caller holds (`retroprism fit --ra --hold NAME,...`).
 //  - Baseline ("mrm"): baselines::RetroreflectiveGGX, its GGX roughness in [1e-4, 1] (log), ior
 //    in [1.01, 3] and specular weight in [0, 1]; its Lambert colour is kept (0.8): at
 //    observation angles of a few degrees it adds < 0.3 cd lx^-1 m^-2.
@@ -58,8 +59,10 @@ std::vector<double> ra_mrm_values(const baselines::RetroreflectiveGGX& m,
 RaFitReport ra_fit_report(const RaMeasurements& t, const std::vector<double>& model);
 
 // InputError "FILE: N rows, fewer than the M inputs fitted (...)" when the table has fewer
-// entries than fitted inputs.
-RaNodeFit fit_ra_node(const RaMeasurements& t, const Params& base = Params());
+// entries than fitted inputs. `held`: fittable inputs kept at the base's value instead (names
+// of the parameter table's RP_FIT inputs; InputError naming any other).
+RaNodeFit fit_ra_node(const RaMeasurements& t, const Params& base = Params(),
+                      const std::vector<std::string>& held = {});
 RaMrmFit fit_ra_mrm(const RaMeasurements& t);
 
 } // namespace retroprism

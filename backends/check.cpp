@@ -45,6 +45,8 @@ std::vector<Params> check_materials() {
                 p.cant_angle = j == 0 ? 0.0 : to_float(-34.0 + 17.0 * j);
                 // Perfect cube corners and ones with dihedral errors of 2 to 50 arcmin.
                 p.dihedral_error = j % 2 == 0 ? 0.0 : to_float(2.0 + 6.0 * (k % 9));
+                // Random dihedral errors of 1 to 25 arcmin, with and without the ring.
+                p.dihedral_spread = k % 3 == 1 ? to_float(1.0 + 3.0 * (k % 9)) : 0.0;
                 p.diffuse_color = {to_float(0.9), to_float(0.5 + 0.1 * j), to_float(0.05)};
                 p.retro_color = {1.0, to_float(0.8), to_float(0.1 * j)};
                 p.specular = j == 3 ? 0.0 : to_float(1.0 - 0.2 * j);

@@ -179,6 +179,11 @@ std::vector<double> named_hard_values(const std::string& name) {
         // largest (60 arcmin at roughness 1e-4) hundreds of lobe widths wide.
         return {0.0, 1e-30, 1e-7, -1e-7, 0.01, 3.0, 59.999999, 60.000001, 100.0, 1e10, -1e10};
     }
+    if (name == "dihedral_spread") {
+        // 0 leaves the lobe's widths alone; the largest spreads widen the narrowest lobe by
+        // hundreds of its widths.
+        return {0.0, 1e-30, 1e-7, -1e-7, 0.01, 3.0, 59.999999, 60.000001, 100.0, 1e10, -1e10};
+    }
     if (name == "cant_angle") {
         return {-30.0, 30.0, -30.000001, 30.000001, 1e-30, -1e-7, 15.0, -45.0, 90.0, 1e10, -1e10};
     }

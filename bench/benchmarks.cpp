@@ -25,7 +25,7 @@ namespace {
                 vec3(p.retro_color[0], p.retro_color[1], p.retro_color[2]), real(p.specular),      \
                 real(p.roughness), real(p.ior), p.prism_reflection, real(p.metal_reflectance),     \
                 p.era_mode, real(p.orientation), real(p.cant_angle), real(p.dihedral_error),       \
-                p.retro_lobe, p.reciprocal ? 1 : 0, p.fidelity);                                   \
+                real(p.dihedral_spread), p.retro_lobe, p.reciprocal ? 1 : 0, p.fidelity);          \
         }                                                                                          \
     };
 

@@ -184,7 +184,7 @@ VariantChoice choose_variant(const Params& given, double maxError) {
         if (v.era_mode >= 0 && v.era_mode != p.era_mode) continue;
         if (v.prism_reflection >= 0 && v.prism_reflection != p.prism_reflection) continue;
         if (!v.canted && p.cant_angle != 0) continue;
-        if (!v.dihedral && p.dihedral_error != 0) continue;
+        if (!v.dihedral && (p.dihedral_error != 0 || p.dihedral_spread != 0)) continue;
         const int fidelity = v.fidelity >= 0 ? v.fidelity : p.fidelity;
         const double error = fidelity == 1 ? out.fastError : 0.0;
         if (fidelity != p.fidelity && error > maxError) continue;

@@ -22,6 +22,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -68,6 +69,7 @@ json node_json(const NodeFitParams& p) {
         enum_values(*find_param("prism_reflection")).at(size_t(p.prism_reflection));
     j["cant_angle"] = q.cant_angle;
     j["dihedral_error"] = q.dihedral_error;
+    j["dihedral_spread"] = q.dihedral_spread;
     return j;
 }
 
@@ -153,6 +155,8 @@ void print_report(const FitData& d, const AltaData& alta, const FitOptions& o, c
                 (plot::fmt("%.4f deg", p.cant_angle) + held).c_str(), "-");
     std::printf("%-20s %-30s %-30s\n", "dihedral_error",
                 (plot::fmt("%.4f arcmin", p.dihedral_error) + held).c_str(), "-");
+    std::printf("%-20s %-30s %-30s\n", "dihedral_spread",
+                (plot::fmt("%.4f arcmin", p.dihedral_spread) + held).c_str(), "-");
     std::printf("%-20s %-30.4f %-30.4f\n", "rel_rms", nf.report.rel_rms, mf.report.rel_rms);
     std::printf("%-20s %-30.4f %-30.4f\n", "log_rms", nf.report.log_rms, mf.report.log_rms);
     std::printf("%-20s %-30.4g %-30.4g\n", "weighted log RMS", std::sqrt(nf.report.objective),
@@ -162,8 +166,8 @@ void print_report(const FitData& d, const AltaData& alta, const FitOptions& o, c
                 "node modes", std::sqrt(nf.mode_objective[0]), std::sqrt(nf.mode_objective[1]),
                 std::sqrt(nf.mode_objective[2]));
     if (!o.paper_geometry)
-        std::printf("%-20s ideal %.4g, tir %.4g, metallized %.4g (the same with cant_angle and "
-                    "dihedral_error 0)\n",
+        std::printf("%-20s ideal %.4g, tir %.4g, metallized %.4g (the same with cant_angle, "
+                    "dihedral_error and dihedral_spread 0)\n",
                     "paper geometry", std::sqrt(nf.paper_objective[0]),
                     std::sqrt(nf.paper_objective[1]), std::sqrt(nf.paper_objective[2]));
     std::printf("\nper theta_l (rel_rms and log_rms over that angle's samples; peaks: the highest "
@@ -189,6 +193,7 @@ void print_report(const FitData& d, const AltaData& alta, const FitOptions& o, c
 
 struct RaFitOutputs {
     std::string plot, mtlx, name;
+    std::vector<std::string> held; // --hold: fittable inputs kept at the base material's value
     bool json = false;
     bool baselineOnly = false;
 };
@@ -306,7 +311,7 @@ int fit_ra_table(const std::string& file, const Params& base, const RaFitOutputs
     if (out.baselineOnly) return fit_ra_baseline(file, out.json);
     const auto t0 = std::chrono::steady_clock::now();
     const RaMeasurements t = read_ra_table(file);
-    const RaNodeFit nf = fit_ra_node(t, base);
+    const RaNodeFit nf = fit_ra_node(t, base, out.held);
     const RaMrmFit mf = fit_ra_mrm(t);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -359,19 +364,22 @@ void require_folder(const std::string& option, const std::string& path) {
 
 int cmd_fit(int argc, const char** argv) {
     OIIO::ArgParse ap;
-    ap.intro("retroprism fit: fits the node (roughness, ior, specular, retro_color, "
-             "diffuse_color, prism_reflection, cant_angle, dihedral_error) and the MaterialX-style "
-             "retroreflective GGX "
-             "baseline to measured BRDF x cos(theta_v) in the ALTA text format (#PARAM_IN "
-             "ISOTROPIC_TL_TV_PROJ_DPHI), weighting peaks and floor alike in log space, with the "
-             "instrument's angular resolution as a Gaussian blur. With --ra, fits the inputs the "
-             "parameter table declares fittable, and the baseline, to a table of R_A (CSV: "
-             "observation_deg, entrance_deg, ra, optional rotation_deg and presentation_deg) in "
-             "log space")
+    ap.intro(
+          "retroprism fit: fits the node (roughness, ior, specular, retro_color, "
+          "diffuse_color, prism_reflection, cant_angle, dihedral_error, dihedral_spread) and the "
+          "MaterialX-style "
+          "retroreflective GGX "
+          "baseline to measured BRDF x cos(theta_v) in the ALTA text format (#PARAM_IN "
+          "ISOTROPIC_TL_TV_PROJ_DPHI), weighting peaks and floor alike in log space, with the "
+          "instrument's angular resolution as a Gaussian blur. With --ra, fits the inputs the "
+          "parameter table declares fittable, and the baseline, to a table of R_A (CSV: "
+          "observation_deg, entrance_deg, ra, optional rotation_deg and presentation_deg) in "
+          "log space")
         .usage("retroprism fit DATA.dat [--json] [--plot OUT.png] [--resolution FWHM_DEG] [--ior "
                "ETA] [--paper-geometry] [--param-out NAME]\n       retroprism fit --ra TABLE.csv "
                "[--json] [--plot "
-               "OUT.png] [--mtlx OUT.mtlx [--name NAME]] [--material BASE.json]\n       retroprism "
+               "OUT.png] [--mtlx OUT.mtlx [--name NAME]] [--material BASE.json] [--hold NAME,...]\n"
+               "       retroprism "
                "fit "
                "--ra TABLE.csv --baseline-only [--json]");
     std::string file;
@@ -391,8 +399,8 @@ int cmd_fit(int argc, const char** argv) {
     ap.arg("--ior ETA")
         .help("fix the ior of both models (e.g. 1.49 for acrylic) instead of fitting it");
     ap.arg("--paper-geometry")
-        .help("hold the node's cant_angle and dihedral_error at 0 (the paper's cube) instead of "
-              "fitting them")
+        .help("hold the node's cant_angle, dihedral_error and dihedral_spread at 0 (the paper's "
+              "cube) instead of fitting them")
         .store_true();
     ap.arg("--param-out NAME")
         .help("the output of an ALTA file without #PARAM_OUT: INV_STERADIAN_COSINE_FACTOR "
@@ -402,6 +410,9 @@ int cmd_fit(int argc, const char** argv) {
     ap.arg("--name NAME").help("--ra: the material's name in --mtlx (default: its file stem)");
     ap.arg("--material FILE")
         .help("--ra: the inputs not fitted, as a JSON material (default: the node's defaults)");
+    ap.arg("--hold NAMES")
+        .help("--ra: fittable inputs (comma-separated) kept at the base material's value instead "
+              "of fitted");
     ap.arg("--baseline-only")
         .help("--ra: fit only the MaterialX-style GGX baseline (with --json: {\"table\", "
               "\"mrm\": {\"params\", \"log_rms\", \"max_error\", \"entries\"}})")
@@ -425,10 +436,15 @@ int cmd_fit(int argc, const char** argv) {
         out.json = ap["json"].get<int>() != 0;
         out.baselineOnly = ap["baseline-only"].get<int>() != 0;
         if (out.baselineOnly)
-            for (const char* option : {"plot", "mtlx", "name", "material"})
+            for (const char* option : {"plot", "mtlx", "name", "material", "hold"})
                 if (!ap[option].get<std::string>().empty())
                     throw InputError(std::string("--") + option +
                                      " goes with the node's fit, not --baseline-only");
+        for (std::stringstream holds(ap["hold"].get<std::string>()); holds.good();) {
+            std::string name;
+            std::getline(holds, name, ',');
+            if (!name.empty()) out.held.push_back(name);
+        }
         out.mtlx = ap["mtlx"].get<std::string>();
         out.name = ap["name"].get<std::string>();
         require_folder("--mtlx", out.mtlx);
@@ -438,7 +454,7 @@ int cmd_fit(int argc, const char** argv) {
         return fit_ra_table(raFile,
                             base.empty() ? Params() : params_from_json(read_json(base), base), out);
     }
-    for (const char* option : {"mtlx", "name", "material"})
+    for (const char* option : {"mtlx", "name", "material", "hold"})
         if (!ap[option].get<std::string>().empty())
             throw InputError(std::string("--") + option + " goes with --ra TABLE.csv");
     if (ap["baseline-only"].get<int>())

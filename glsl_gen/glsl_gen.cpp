@@ -243,7 +243,7 @@ std::string entry_point(const Variant& v) {
     if (v.fidelity >= 0)
         fixed += "    fidelity = " + std::string(kFidelityConst[v.fidelity]) + ";\n";
     if (!v.canted) fixed += "    cant_angle = 0.0;\n";
-    if (!v.dihedral) fixed += "    dihedral_error = 0.0;\n";
+    if (!v.dihedral) fixed += "    dihedral_error = 0.0;\n    dihedral_spread = 0.0;\n";
     // The inputs in table order, as GLSL parameters and as arguments.
     std::string inputs = entry_signature();
     inputs = inputs.substr(0, inputs.find("vec3 wi,"));
@@ -266,7 +266,8 @@ std::string entry_point(const Variant& v) {
            "    rp_make_frame(normal, tangent, fN, fT, fB);\n"
            "    return rp_prepare(weight, diffuse_color, retro_color, specular, roughness, ior,\n"
            "                      prism_reflection, metal_reflectance, era_mode, orientation,\n"
-           "                      cant_angle, dihedral_error, retro_lobe, reciprocal ? 1 : 0,\n"
+           "                      cant_angle, dihedral_error, dihedral_spread, retro_lobe,\n"
+           "                      reciprocal ? 1 : 0,\n"
            "                      fidelity);\n"
            "}\n\n"
            "// The node, evaluated: f (1/sr, without the cosine) per lobe for wi (toward the "

@@ -366,8 +366,14 @@ std::string generate_portable_nodegraph() {
                           {"scatter_mode", {"string", "value", "R"}}});
     g.comment("Retro lobe: GGX about V, alpha_o = sqrt2 alpha (eta^2 - 1) / ((eta cos_t + cos_v) "
               "sqrt(cos_v))");
-    Val alphaO = g.div(g.mul(g.mul(alpha, Graph::f(std::sqrt(2.0))), g.sub(eta2, Graph::f(1))),
-                       g.mul(g.add(gEta, c), g.sqrt(c)));
+    Val alphaRough = g.div(g.mul(g.mul(alpha, Graph::f(std::sqrt(2.0))), g.sub(eta2, Graph::f(1))),
+                           g.mul(g.add(gEta, c), g.sqrt(c)));
+    g.comment("Random dihedral errors (dihedral_spread, sigma): alpha_o^2 + 8 sigma^2 eta^2 cos_t "
+              "/ cos_v, the product of the node's two widenings (docs/dihedral.md) on one width");
+    Val sigma = g.mul(float_input(g, "dihedral_spread"), Graph::f(f64::RP_ARCMIN));
+    Val alphaO =
+        g.sqrt(g.add(g.mul(alphaRough, alphaRough),
+                     g.div(g.mul(g.mul(g.mul(sigma, sigma), Graph::f(8)), g.mul(eta, gEta)), c)));
     Val alphaG =
         g.clamp(g.mul(g.max(alphaO, Graph::f(minAlpha)), Graph::f(0.5 * fit_retro_lobe().width)),
                 minAlpha, 1.0);

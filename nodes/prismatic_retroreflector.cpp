@@ -211,7 +211,7 @@ f64::rp_material prepare_material(const Params& p) {
         p.weight, f64::vec3(p.diffuse_color[0], p.diffuse_color[1], p.diffuse_color[2]),
         f64::vec3(p.retro_color[0], p.retro_color[1], p.retro_color[2]), p.specular, p.roughness,
         p.ior, p.prism_reflection, p.metal_reflectance, p.era_mode, p.orientation, p.cant_angle,
-        p.dihedral_error, p.retro_lobe, p.reciprocal ? 1 : 0, p.fidelity);
+        p.dihedral_error, p.dihedral_spread, p.retro_lobe, p.reciprocal ? 1 : 0, p.fidelity);
 }
 
 namespace {
@@ -255,6 +255,7 @@ f32::rp_material round_material<float>(const f64::rp_material& m) {
     r.dihedral = m.dihedral;
     r.ring_par = float(m.ring_par);
     r.ring_tilt = float(m.ring_tilt);
+    r.spread2 = float(m.spread2);
     r.retro_anisotropic = m.retro_anisotropic;
     r.reciprocal = m.reciprocal;
     r.fidelity = m.fidelity;

@@ -18,6 +18,6 @@ mkdir -p "$root/out"
 "$cli" ra --document "$root/examples/documents/white_sign.mtlx"
 "$cli" demo --materials "$root/examples/materials" --out "$root/out/demo"
 sheeting="$root/examples/sheeting"
-"$cli" fit --ra "$sheeting/dg983_white.csv" --plot "$root/out/dg983_white_fit.png"
+"$cli" fit --ra "$sheeting/dg983_white.csv" --hold dihedral_spread --plot "$root/out/dg983_white_fit.png"
 "$cli" approach "$sheeting/dg983_white.mtlx" --table "$sheeting/dg983_white.csv" \
   --out "$root/out/approach"

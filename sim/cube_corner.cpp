@@ -1,14 +1,25 @@
 // cube_corner.cpp: canted cube corners in the simulator (see cube_corner.h).
 #include "cube_corner.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+
+#include <glm/mat3x3.hpp>
+#include <glm/matrix.hpp>
 
 namespace retroprism {
 namespace sim {
 
-CubeCorner cube_corner(double cantDeg, double dihedralArcmin, double psi) {
-    const double cant = cantDeg * (3.14159265358979323846 / 180.0);
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kArcmin = kPi / (180.0 * 60.0);
+
+// The corner of the face normals `normal` (in the cube's frame; `perfect`: the unit axes, when
+// the edges are the normals themselves) at cant `cantDeg` and orientation `psi`.
+CubeCorner corner_of_normals(double cantDeg, const dvec3 normal[3], bool perfect, double psi) {
+    const double cant = cantDeg * (kPi / 180.0);
     const dvec3 a = glm::normalize(dvec3(1.0, 1.0, 1.0));
     const dvec3 u = glm::normalize(dvec3(2.0, -1.0, -1.0));
     const dvec3 n = glm::normalize(a * std::cos(cant) + u * std::sin(cant));
@@ -16,22 +27,11 @@ CubeCorner cube_corner(double cantDeg, double dihedralArcmin, double psi) {
     const dvec3 x = glm::normalize(dvec3(1.0, 0.0, 0.0) - n.x * n);
     const dvec3 y = glm::cross(n, x);
     const double c = std::cos(psi), s = std::sin(psi);
-    // The face normals in the cube's frame. With e_k = (a_k + t 1) / |a_k + t 1|,
-    // e_i.e_j = (2t + 3t^2) / (1 + 2t + 3t^2) = sin(delta) gives 3t^2 + 2t - q = 0,
-    // q = sin(delta) / (1 - sin(delta)).
-    dvec3 normal[3], edge[3];
-    const double sinDelta = std::sin(dihedralArcmin * (3.14159265358979323846 / (180.0 * 60.0)));
-    const double q = sinDelta / (1.0 - sinDelta);
-    const double t = q / (1.0 + std::sqrt(1.0 + 3.0 * q)); // (-2 + sqrt(4 + 12 q)) / 6
-    for (int k = 0; k < 3; ++k) {
-        normal[k] = dvec3(0.0);
-        normal[k][k] = 1.0;
-        if (dihedralArcmin != 0.0) normal[k] = glm::normalize(normal[k] + dvec3(t));
-    }
+    dvec3 edge[3];
     for (int k = 0; k < 3; ++k) {
         // The edge opposite face k: along the other two faces, into the solid.
         edge[k] = normal[k];
-        if (dihedralArcmin != 0.0) {
+        if (!perfect) {
             edge[k] = glm::normalize(glm::cross(normal[(k + 1) % 3], normal[(k + 2) % 3]));
             if (glm::dot(edge[k], normal[k]) < 0) edge[k] = -edge[k];
         }
@@ -43,9 +43,52 @@ CubeCorner cube_corner(double cantDeg, double dihedralArcmin, double psi) {
     CubeCorner cc;
     for (int k = 0; k < 3; ++k) {
         cc.e[k] = toSheet(normal[k]);
-        cc.edge[k] = dihedralArcmin != 0.0 ? toSheet(edge[k]) : cc.e[k];
+        cc.edge[k] = perfect ? cc.e[k] : toSheet(edge[k]);
     }
     return cc;
+}
+
+} // namespace
+
+CubeCorner cube_corner(double cantDeg, double dihedralArcmin, double psi) {
+    // The face normals in the cube's frame. With e_k = (a_k + t 1) / |a_k + t 1|,
+    // e_i.e_j = (2t + 3t^2) / (1 + 2t + 3t^2) = sin(delta) gives 3t^2 + 2t - q = 0,
+    // q = sin(delta) / (1 - sin(delta)).
+    dvec3 normal[3];
+    const double sinDelta = std::sin(dihedralArcmin * kArcmin);
+    const double q = sinDelta / (1.0 - sinDelta);
+    const double t = q / (1.0 + std::sqrt(1.0 + 3.0 * q)); // (-2 + sqrt(4 + 12 q)) / 6
+    for (int k = 0; k < 3; ++k) {
+        normal[k] = dvec3(0.0);
+        normal[k][k] = 1.0;
+        if (dihedralArcmin != 0.0) normal[k] = glm::normalize(normal[k] + dvec3(t));
+    }
+    return corner_of_normals(cantDeg, normal, dihedralArcmin == 0.0, psi);
+}
+
+CubeCorner cube_corner(double cantDeg, const double dihedralArcmin[3], double psi) {
+    // G_ij = e_i.e_j = sin(error of the angle between faces i and j, the one along edge k).
+    glm::dmat3 g(1.0);
+    for (int k = 0; k < 3; ++k) {
+        const int i = (k + 1) % 3, j = (k + 2) % 3;
+        g[i][j] = g[j][i] = std::sin(dihedralArcmin[k] * kArcmin);
+    }
+    // Its principal square root by Newton's iteration from the identity, X <- (X + X^-1 G) / 2:
+    // quadratic convergence, G being within a few 1e-2 of the identity.
+    glm::dmat3 root(1.0);
+    for (int it = 0; it < 50; ++it) {
+        const glm::dmat3 next = 0.5 * (root + glm::inverse(root) * g);
+        double change = 0;
+        for (int c = 0; c < 3; ++c)
+            for (int r = 0; r < 3; ++r)
+                change = std::max(change, std::abs(next[c][r] - root[c][r]));
+        root = next;
+        if (change < 1e-16) break;
+    }
+    dvec3 normal[3];
+    for (int k = 0; k < 3; ++k)
+        normal[k] = glm::normalize(dvec3(root[0][k], root[1][k], root[2][k]));
+    return corner_of_normals(cantDeg, normal, false, psi);
 }
 
 CubeCorner canted_cube_corner(double cantDeg, double psi) {
@@ -95,7 +138,7 @@ PrismOutcome trace_cube_corner(const Sheet& sheet, const CubeCorner& cc, const d
         ++reflections;
     }
     if (reflections != 3) return kPrismMiss;
-    if (exit) *exit = sheet.dihedral_arcmin != 0.0 ? d : -d0;
+    if (exit) *exit = sheet.dihedral_arcmin != 0.0 || sheet.dihedral_spread_arcmin != 0.0 ? d : -d0;
     return kPrismRetro;
 }
 

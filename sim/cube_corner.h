@@ -30,13 +30,21 @@ struct CubeCorner {
 // their inward normals).
 CubeCorner cube_corner(double cantDeg, double dihedralArcmin, double psi);
 
+// The corner whose three dihedral angles differ: 90 degrees + dihedralArcmin[k] between the two
+// faces other than k. The inward normals have the Gram matrix G, G_ij = sin(error between i and
+// j), and are e = G^(1/2) applied to the axes (the symmetric square root: the normals nearest
+// the axes, e_k = normalize(a_k + t (1,1,1)) when the three errors are equal); the cant, the
+// sheet's frame and the aperture as above. Errors may be negative (angles below 90 degrees).
+CubeCorner cube_corner(double cantDeg, const double dihedralArcmin[3], double psi);
+
 // The perfect (90-degree) canted corner: cube_corner(cantDeg, 0, psi).
 CubeCorner canted_cube_corner(double cantDeg, double psi);
 
 // A downward ray of direction d (unit, d.z < 0) enters the aperture at a uniform point and is
 // traced face by face with the sheet's face reflectance (as trace_prism). A ray that leaves
 // after one reflection on each face is retroreflected; `exit` (when not null) receives its
-// direction: the traced one with dihedral errors (sheet.dihedral_arcmin != 0), else exactly -d.
+// direction: the traced one with dihedral errors (sheet.dihedral_arcmin or
+// sheet.dihedral_spread_arcmin not 0), else exactly -d.
 PrismOutcome trace_cube_corner(const Sheet& sheet, const CubeCorner& cc, const dvec3& d, Rng& rng,
                                dvec3* exit = nullptr);
 

@@ -50,6 +50,7 @@ Sheet sheet_from_params(const Params& raw, int channel) {
     s.orientation_deg = p.orientation;
     s.cant_deg = p.cant_angle;
     s.dihedral_arcmin = p.dihedral_error;
+    s.dihedral_spread_arcmin = p.dihedral_spread;
     s.kd = p.diffuse_color[size_t(std::clamp(channel, 0, 2))];
     return s;
 }
@@ -300,7 +301,7 @@ PrismOutcome trace_prism(const Sheet& sheet, const dvec3& d, Rng& rng, dvec3* ex
     // degrees, psi the orientation of vertex 0.
     double b[3];
     if (sheet.era_mode == f64::RP_ERA_AVERAGED && sheet.cant_deg == 0.0 &&
-        sheet.dihedral_arcmin == 0.0) {
+        sheet.dihedral_arcmin == 0.0 && sheet.dihedral_spread_arcmin == 0.0) {
         // psi uniform: v_k.d = r cos(chi + 120 k degrees) with chi = psi - azimuth(d) uniform,
         // and chi uniform in [0, 60) degrees gives the same outcomes in distribution (a turn of
         // 120 degrees and the mirror image in the plane through d and the normal each map the
@@ -324,6 +325,15 @@ PrismOutcome trace_prism(const Sheet& sheet, const dvec3& d, Rng& rng, dvec3* ex
             if (sheet.era_mode == f64::RP_ERA_MATCHED_PAIR && rng.uniform() < 0.5) psi += kPi;
             c0 = std::cos(psi);
             s0 = std::sin(psi);
+        }
+        if (sheet.dihedral_spread_arcmin != 0.0) {
+            // This prism's own dihedral errors: each of the three about the sheet's mean, with
+            // the sheet's deviation, independently.
+            double errors[3];
+            for (double& e : errors)
+                e = sheet.dihedral_arcmin + sheet.dihedral_spread_arcmin * normal_variate(rng);
+            return trace_cube_corner(sheet, cube_corner(sheet.cant_deg, errors, std::atan2(s0, c0)),
+                                     d, rng, exit);
         }
         if (sheet.cant_deg != 0.0 || sheet.dihedral_arcmin != 0.0)
             return trace_cube_corner(

@@ -91,7 +91,9 @@ struct Sheet {
     double orientation_deg = 0.0; // of one aperture vertex from the tangent (+x)
     double cant_deg = 0.0;        // cant_angle: 0 the paper's cube, else sim/cube_corner.h
     double dihedral_arcmin = 0.0; // dihedral_error: 0 the perfect cube, else sim/cube_corner.h
-    double kd = 0.9;              // substrate albedo, one channel
+    double dihedral_spread_arcmin = 0.0; // dihedral_spread: each prism's three dihedral errors
+                                         // drawn about dihedral_arcmin with this deviation
+    double kd = 0.9;                     // substrate albedo, one channel
     bool upward_through_prisms = true;
 };
 

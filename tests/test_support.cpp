@@ -99,6 +99,7 @@ std::vector<Corner> parameter_corners() {
                 p.era_mode = era;
                 p.orientation = 17.0;
                 p.dihedral_error = era == 0 ? 60.0 : 8.0;
+                p.dihedral_spread = era == 0 ? 0.0 : 5.0;
                 p.cant_angle = era == 0 ? 0.0 : -20.0;
                 p.retro_lobe = era == 0 ? 0 : 1;
                 p.diffuse_color = {1.0, 1.0, 1.0};
@@ -106,6 +107,7 @@ std::vector<Corner> parameter_corners() {
                 out.push_back({"roughness=" + std::to_string(roughness) +
                                    " ior=" + std::to_string(ior) + " era=" + std::to_string(era) +
                                    " dihedral=" + std::to_string(p.dihedral_error) +
+                                   " spread=" + std::to_string(p.dihedral_spread) +
                                    " cant=" + std::to_string(p.cant_angle) +
                                    " retro_lobe=" + std::to_string(p.retro_lobe),
                                p});

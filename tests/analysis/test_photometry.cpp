@@ -11,6 +11,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -1195,6 +1196,22 @@ TEST_CASE("fit --ra: the fittable inputs of the parameter table are recovered fr
                                      " inputs fitted (" + list + "); give at least " +
                                      std::to_string(names.size()) + " rows"));
     }
+    // Held inputs keep the base's value and do not count: two held, the same rows suffice.
+    Params base;
+    base.cant_angle = 0.0;
+    base.dihedral_spread = 0.0;
+    const RaNodeFit held = fit_ra_node(few, base, {"cant_angle", "dihedral_spread"});
+    CHECK(held.params.cant_angle == 0.0);
+    CHECK(held.params.dihedral_spread == 0.0);
+    CHECK(held.fitted.size() == names.size() - 2);
+    CHECK(std::find(held.fitted.begin(), held.fitted.end(), "cant_angle") == held.fitted.end());
+    try {
+        fit_ra_node(t, base, {"weight"});
+        FAIL("no error");
+    } catch (const InputError& e) {
+        CHECK(contains(e.what(),
+                       "--hold weight: not a fitted input (the fitted inputs: " + list + ")"));
+    }
 }
 
 TEST_CASE("fit --ra on the DG983 preset: JSON, plot and a document that ra --document "
@@ -1203,8 +1220,9 @@ TEST_CASE("fit --ra on the DG983 preset: JSON, plot and a document that ra --doc
     const fs::path dir = temp_dir("fit_ra");
     const std::string table = source("examples/sheeting/dg983_white.csv");
     const fs::path doc = dir / "dg983.mtlx", png = dir / "dg983.png";
-    Run r = cli("fit --ra " + table + " --json --mtlx " + doc.string() + " --name dg983_white" +
-                " --plot " + png.string());
+    // Six rows: dihedral_spread held at 0, as the preset's command does (examples/sheeting).
+    Run r = cli("fit --ra " + table + " --hold dihedral_spread --json --mtlx " + doc.string() +
+                " --name dg983_white --plot " + png.string());
     INFO(r.output);
     REQUIRE(r.status == 0);
     const json j = json::parse(r.output.substr(r.output.find('{')));

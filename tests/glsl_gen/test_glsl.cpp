@@ -173,7 +173,10 @@ TEST_CASE("Each specialised variant computes what the C++ reference computes", "
             if (v.prism_reflection >= 0) q.material.prism_reflection = v.prism_reflection;
             if (v.fidelity >= 0) q.material.fidelity = v.fidelity;
             if (!v.canted) q.material.cant_angle = 0.0;
-            if (!v.dihedral) q.material.dihedral_error = 0.0;
+            if (!v.dihedral) {
+                q.material.dihedral_error = 0.0;
+                q.material.dihedral_spread = 0.0;
+            }
             std::vector<std::array<Vec3d, 2>> pairs;
             for (const DirectionPair& s : q.samples)
                 pairs.push_back({s.wi, s.wo});

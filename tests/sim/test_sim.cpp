@@ -622,6 +622,54 @@ TEST_CASE("Dihedral errors: the ring's second moments against the node's, by inc
                 deltaArcmin, table.c_str(), worst, worstTotal);
 }
 
+TEST_CASE("Dihedral spread: random errors add 4 sigma^2 along each axis, whatever the direction",
+          "[sim]") {
+    // Each prism's three dihedral errors drawn about the mean with deviation sigma, independently
+    // (sim/cube_corner.h builds each prism's corner from its Gram matrix): the retroreflected
+    // rays' deviation inside the prism gains the variance 4 sigma^2 along every axis
+    // perpendicular to the retro direction (first order in sigma; docs/dihedral.md), added to
+    // the ring's moments of the mean error, for every cant and inner direction. Checked against
+    // the node's spread2 + ring moments (rp_prepare). Tolerance: 3% in each component (second
+    // order, sigma 6 arcmin: 2e-3 rad; and the ring's own, measured above, kept at 0 here or at
+    // 2 arcmin beside 6) plus 4 standard errors of the simulated moments.
+    const double sigmaArcmin = 6.0;
+    std::string table;
+    double worst = 0;
+    int cases = 0;
+    for (double mean : {0.0, 2.0})
+        for (double cant : {0.0, -10.0})
+            for (double thetaT : {0.0, 20.0, 35.0}) {
+                Params p;
+                p.cant_angle = cant;
+                p.dihedral_error = mean;
+                p.dihedral_spread = sigmaArcmin;
+                const sim::Sheet sh = sim::sheet_from_params(p);
+                const f64::rp_material m = retroprism::prepare_material(retroprism::sanitize(p));
+                const dvec3 d = -dir_deg(thetaT, 40.0);
+                const SpotMoments got = spot_moments(sh, d, 40000, 601 + cases++);
+                if (got.retro == 0) continue;
+                const double s2 = std::sin(thetaT * kDeg) * std::sin(thetaT * kDeg);
+                const double wantPar = m.ring_par + m.spread2;
+                const double wantPerp = m.ring_par - m.ring_tilt * s2 + m.spread2;
+                const double se = 2.0 / std::sqrt(double(got.retro));
+                const double errPar = got.par / wantPar - 1, errPerp = got.perp / wantPerp - 1;
+                char line[200];
+                std::snprintf(line, sizeof line,
+                              "  mean %3.1f cant %5.1f theta_t %4.1f: par %+.3f perp %+.3f (se "
+                              "%.3f)\n",
+                              mean, cant, thetaT, errPar, errPerp, se);
+                table += line;
+                INFO(line);
+                CHECK(std::abs(errPar) <= 0.03 + kZ4 * se);
+                CHECK(std::abs(errPerp) <= 0.03 + kZ4 * se);
+                worst = std::max({worst, std::abs(errPar), std::abs(errPerp)});
+            }
+    std::printf(
+        "MEASURED: dihedral spread %.0f arcmin, averaged orientations, inner second moments "
+        "simulated / node - 1:\n%sworst %.3f\n",
+        sigmaArcmin, table.c_str(), worst);
+}
+
 TEST_CASE("Dihedral errors: the node's retro lobe widens as the simulated one does", "[sim]") {
     // The whole sheet (rough top surface, roughness 0.01, so that the ring of a 10-arcmin error,
     // 0.014 rad in radius outside at normal incidence, is twice the rough lobe's width): the
@@ -700,9 +748,11 @@ TEST_CASE("Dihedral errors: the retro lobe's spread along and across the plane o
           "[sim]") {
     // The exit refraction magnifies the spots' deviations by eta cos_t / cos_i along the plane of
     // incidence and by eta across it, so at oblique incidence the ring of spots is an ellipse
-    // (docs/dihedral.md). Two sheets: the one of the test above (ideal prisms, roughness 0.01,
-    // 10 arcmin) and one like the DG983 preset (metallised, roughness 0.008, 4 arcmin, cant
-    // -11 deg), each with the anisotropic retro lobe and with the paper's isotropic one. For
+    // (docs/dihedral.md). Four sheets: the one of the test above (ideal prisms, roughness 0.01,
+    // 10 arcmin), one like the DG983 preset (metallised, roughness 0.008, 4 arcmin, cant
+    // -11 deg), one with random errors alone (dihedral_spread 8 arcmin, roughness 0.005) and one
+    // with both (4 arcmin mean, 4 spread, the DG983-like sheet); with the anisotropic retro lobe,
+    // and the first two with the paper's isotropic one too. For
     // each axis, the share of the simulated retro light, within slope 0.035 of wi, inside the
     // strips |s_par| < x (and |s_perp| < y) where the node holds 25%, 50%, 75% and 90% of its own
     // (R_A is read at observation angles along the plane of incidence, so the spread along it is
@@ -715,13 +765,16 @@ TEST_CASE("Dihedral errors: the retro lobe's spread along and across the plane o
     // 50 deg, across).
     struct Sheet {
         const char* name;
-        double roughness, eta, delta, cant;
+        double roughness, eta, delta, spread, cant;
         int prism, anisotropic;
     };
-    const Sheet sheets[] = {{"ideal 10' a", 0.01, 1.49, 10.0, 0.0, f64::RP_PRISM_IDEAL, 1},
-                            {"DG983-like a", 0.008, 1.49, 4.0, -11.0, f64::RP_PRISM_METALLIZED, 1},
-                            {"ideal 10' i", 0.01, 1.49, 10.0, 0.0, f64::RP_PRISM_IDEAL, 0},
-                            {"DG983-like i", 0.008, 1.49, 4.0, -11.0, f64::RP_PRISM_METALLIZED, 0}};
+    const Sheet sheets[] = {
+        {"ideal 10' a", 0.01, 1.49, 10.0, 0.0, 0.0, f64::RP_PRISM_IDEAL, 1},
+        {"DG983-like a", 0.008, 1.49, 4.0, 0.0, -11.0, f64::RP_PRISM_METALLIZED, 1},
+        {"spread 8' a", 0.005, 1.49, 0.0, 8.0, 0.0, f64::RP_PRISM_IDEAL, 1},
+        {"4'+-4' a", 0.008, 1.49, 4.0, 4.0, -11.0, f64::RP_PRISM_METALLIZED, 1},
+        {"ideal 10' i", 0.01, 1.49, 10.0, 0.0, 0.0, f64::RP_PRISM_IDEAL, 0},
+        {"DG983-like i", 0.008, 1.49, 4.0, 0.0, -11.0, f64::RP_PRISM_METALLIZED, 0}};
     std::string table;
     double worst = 0;
     int cases = 0;
@@ -731,6 +784,7 @@ TEST_CASE("Dihedral errors: the retro lobe's spread along and across the plane o
             const sim::Grid g = retro_window(wi, 0.035);
             Params p = sheet_params(sheet.roughness, sheet.eta, sheet.prism, 0.9);
             p.dihedral_error = sheet.delta;
+            p.dihedral_spread = sheet.spread;
             p.cant_angle = sheet.cant;
             p.retro_lobe = sheet.anisotropic;
             const sim::Run r = run_sim(sim::sheet_from_params(p), wi, {g}, 300000, 307 + cases++);

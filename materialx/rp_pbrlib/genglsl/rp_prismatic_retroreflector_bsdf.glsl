@@ -2118,6 +2118,8 @@ struct rp_material {
     float ring_par;         // dihedral: the spot ring's second moment along the plane of
     float ring_tilt;        // incidence inside the prism, and its perpendicular one's decrease
                            // with sin^2(theta_t): ring_par - ring_tilt sin^2(theta_t) (rad^2)
+    float spread2;          // dihedral: the variance, along each axis inside the prism, of the
+                           // deviation random dihedral errors give: 4 sigma^2 (rad^2)
     int retro_anisotropic; // 0: isotropic alpha_o (the paper); 1: alpha_par, alpha_perp
     int reciprocal;        // 0: the paper's retro and diffuse lobes; 1: their reciprocal form
     int fidelity;          // RP_FIDELITY_EXACT or RP_FIDELITY_FAST
@@ -2821,7 +2823,8 @@ float rp_fdr_external_table(float eta) {
 rp_material rp_prepare(float weight, vec3 diffuseColor, vec3 retroColor, float specular,
                              float roughness, float ior, int prismReflection, float metalReflectance,
                              int eraMode, float orientationDeg, float cantDeg, float dihedralArcmin,
-                             int retroAnisotropic, int reciprocal, int fidelity) {
+                             float dihedralSpreadArcmin, int retroAnisotropic, int reciprocal,
+                             int fidelity) {
     rp_material m;
     m.weight = weight;
     m.specular = specular;
@@ -2877,6 +2880,15 @@ rp_material rp_prepare(float weight, vec3 diffuseColor, vec3 retroColor, float s
     m.dihedral = 0;
     m.ring_par = float(0.0);
     m.ring_tilt = float(0.0);
+    m.spread2 = float(0.0);
+    if (dihedralSpreadArcmin > float(0.0)) {
+        // docs/dihedral.md: each of a prism's three dihedral errors varying about the mean
+        // independently with standard deviation sigma turns every spot by a Gaussian deviation
+        // of covariance 4 sigma^2 P_r (first order in sigma, for every face order and direction).
+        float sigma = dihedralSpreadArcmin * RP_ARCMIN;
+        m.dihedral = 1;
+        m.spread2 = float(4.0) * sigma * sigma;
+    }
     if (dihedralArcmin > float(0.0)) {
         // docs/dihedral.md: the six spots of a cube corner whose dihedral angles are 90 degrees
         // plus delta deviate from the retro direction, inside the prism, by a vector Delta of
@@ -3094,7 +3106,23 @@ void rp_incident_lobes(in rp_material m, vec3 wi, out rp_incident s) {
     s.invAlphaPar2 = invPar * invPar;
     s.invAlphaPerp2 = invPerp * invPerp;
     s.retroNorm = RP_INV_PI * invPar * invPerp;
-    if (m.dihedral != 0) {
+    if (m.spread2 > float(0.0)) {
+        // docs/dihedral.md: the random dihedral errors' Gaussian deviation, carried out by the
+        // exit refraction (magnified by eta cos_t / cos_i along the plane of incidence, by eta
+        // across it), convolved with the lobe's Gaussian: each width's square gains twice the
+        // variance along its axis, alpha^2 + 8 sigma^2 mag^2.
+        float magOut = m.eta * cosThetaT * s.invCosI;
+        float widePar2 = s.alphaPar * s.alphaPar + float(2.0) * m.spread2 * magOut * magOut;
+        float widePerp2 = s.alphaPerp * s.alphaPerp + float(2.0) * m.spread2 * m.eta * m.eta;
+        invPar = float(1.0) / sqrt(widePar2);
+        invPerp = float(1.0) / sqrt(widePerp2);
+        s.alphaPar = sqrt(widePar2);
+        s.alphaPerp = sqrt(widePerp2);
+        s.invAlphaPar2 = invPar * invPar;
+        s.invAlphaPerp2 = invPerp * invPerp;
+        s.retroNorm = RP_INV_PI * invPar * invPerp;
+    }
+    if (m.ring_par > float(0.0)) {
         // docs/dihedral.md: the spots' inner second moments (rp_prepare) carried out by the exit
         // refraction, which magnifies deviations by eta cos_t / cos_i in the plane of incidence
         // and by eta across it (eta^2 sin^2(theta_t) = sin^2(theta_i)), in the scaled slopes:
@@ -3452,7 +3480,7 @@ float rp_fdr_external(float eta) {
 
 // The node's inputs, sanitised as in every backend (clamped into their ranges, NaN
 // replaced by the default), as the core's material and shading frame.
-rp_material rp_prismatic_retroreflector_material(float weight, vec3 diffuse_color, vec3 retro_color, float specular, float roughness, float ior, int prism_reflection, float metal_reflectance, int era_mode, float orientation, float cant_angle, float dihedral_error, int retro_lobe, bool reciprocal, int fidelity, vec3 normal, vec3 tangent, out vec3 fN, out vec3 fT, out vec3 fB) {
+rp_material rp_prismatic_retroreflector_material(float weight, vec3 diffuse_color, vec3 retro_color, float specular, float roughness, float ior, int prism_reflection, float metal_reflectance, int era_mode, float orientation, float cant_angle, float dihedral_error, float dihedral_spread, int retro_lobe, bool reciprocal, int fidelity, vec3 normal, vec3 tangent, out vec3 fN, out vec3 fT, out vec3 fB) {
     weight = rp_sanitize(weight, 0.0, 1.0, 1.0);
     diffuse_color = vec3(rp_sanitize(diffuse_color.x, 0.0, 1.0, 0.9), rp_sanitize(diffuse_color.y, 0.0, 1.0, 0.9), rp_sanitize(diffuse_color.z, 0.0, 1.0, 0.9));
     retro_color = vec3(rp_sanitize(retro_color.x, 0.0, 1.0, 1.0), rp_sanitize(retro_color.y, 0.0, 1.0, 1.0), rp_sanitize(retro_color.z, 0.0, 1.0, 1.0));
@@ -3465,19 +3493,21 @@ rp_material rp_prismatic_retroreflector_material(float weight, vec3 diffuse_colo
     orientation = rp_sanitize(orientation, 0.0, 360.0, 0.0);
     cant_angle = rp_sanitize(cant_angle, -30.0, 30.0, 0.0);
     dihedral_error = rp_sanitize(dihedral_error, 0.0, 60.0, 0.0);
+    dihedral_spread = rp_sanitize(dihedral_spread, 0.0, 60.0, 0.0);
     if (retro_lobe < 0 || retro_lobe > 1) retro_lobe = 0;
     if (fidelity < 0 || fidelity > 1) fidelity = 0;
     rp_make_frame(normal, tangent, fN, fT, fB);
     return rp_prepare(weight, diffuse_color, retro_color, specular, roughness, ior,
                       prism_reflection, metal_reflectance, era_mode, orientation,
-                      cant_angle, dihedral_error, retro_lobe, reciprocal ? 1 : 0,
+                      cant_angle, dihedral_error, dihedral_spread, retro_lobe,
+                      reciprocal ? 1 : 0,
                       fidelity);
 }
 
 // The node, evaluated: f (1/sr, without the cosine) per lobe for wi (toward the light)
 // and wo (toward the viewer), both given in the space of `normal` and `tangent`, and
 // the pdf of the node's sampling.
-void rp_prismatic_retroreflector_eval(float weight, vec3 diffuse_color, vec3 retro_color, float specular, float roughness, float ior, int prism_reflection, float metal_reflectance, int era_mode, float orientation, float cant_angle, float dihedral_error, int retro_lobe, bool reciprocal, int fidelity, vec3 normal, vec3 tangent, vec3 wi, vec3 wo, out vec3 surface, out vec3 retro, out vec3 diffuse, out float pdf) {
+void rp_prismatic_retroreflector_eval(float weight, vec3 diffuse_color, vec3 retro_color, float specular, float roughness, float ior, int prism_reflection, float metal_reflectance, int era_mode, float orientation, float cant_angle, float dihedral_error, float dihedral_spread, int retro_lobe, bool reciprocal, int fidelity, vec3 normal, vec3 tangent, vec3 wi, vec3 wo, out vec3 surface, out vec3 retro, out vec3 diffuse, out float pdf) {
     surface = vec3(0.0);
     retro = vec3(0.0);
     diffuse = vec3(0.0);
@@ -3485,7 +3515,7 @@ void rp_prismatic_retroreflector_eval(float weight, vec3 diffuse_color, vec3 ret
     vec3 fN;
     vec3 fT;
     vec3 fB;
-    rp_material m = rp_prismatic_retroreflector_material(weight, diffuse_color, retro_color, specular, roughness, ior, prism_reflection, metal_reflectance, era_mode, orientation, cant_angle, dihedral_error, retro_lobe, reciprocal, fidelity, normal, tangent, fN, fT, fB);
+    rp_material m = rp_prismatic_retroreflector_material(weight, diffuse_color, retro_color, specular, roughness, ior, prism_reflection, metal_reflectance, era_mode, orientation, cant_angle, dihedral_error, dihedral_spread, retro_lobe, reciprocal, fidelity, normal, tangent, fN, fT, fB);
     vec3 wiLocal;
     vec3 woLocal;
     if (!rp_to_local(fN, fT, fB, wi, wiLocal) || !rp_to_local(fN, fT, fB, wo, woLocal)) {
@@ -3500,7 +3530,7 @@ void rp_prismatic_retroreflector_eval(float weight, vec3 diffuse_color, vec3 ret
 
 // Each lobe's albedo estimate (rp_estimates_at, without `weight`) for light arriving
 // from w, and the retro lobe's width alpha_o there.
-void rp_prismatic_retroreflector_estimates(float weight, vec3 diffuse_color, vec3 retro_color, float specular, float roughness, float ior, int prism_reflection, float metal_reflectance, int era_mode, float orientation, float cant_angle, float dihedral_error, int retro_lobe, bool reciprocal, int fidelity, vec3 normal, vec3 tangent, vec3 w, out vec3 surface, out vec3 retro, out vec3 diffuse, out float alphaO) {
+void rp_prismatic_retroreflector_estimates(float weight, vec3 diffuse_color, vec3 retro_color, float specular, float roughness, float ior, int prism_reflection, float metal_reflectance, int era_mode, float orientation, float cant_angle, float dihedral_error, float dihedral_spread, int retro_lobe, bool reciprocal, int fidelity, vec3 normal, vec3 tangent, vec3 w, out vec3 surface, out vec3 retro, out vec3 diffuse, out float alphaO) {
     surface = vec3(0.0);
     retro = vec3(0.0);
     diffuse = vec3(0.0);
@@ -3508,7 +3538,7 @@ void rp_prismatic_retroreflector_estimates(float weight, vec3 diffuse_color, vec
     vec3 fN;
     vec3 fT;
     vec3 fB;
-    rp_material m = rp_prismatic_retroreflector_material(weight, diffuse_color, retro_color, specular, roughness, ior, prism_reflection, metal_reflectance, era_mode, orientation, cant_angle, dihedral_error, retro_lobe, reciprocal, fidelity, normal, tangent, fN, fT, fB);
+    rp_material m = rp_prismatic_retroreflector_material(weight, diffuse_color, retro_color, specular, roughness, ior, prism_reflection, metal_reflectance, era_mode, orientation, cant_angle, dihedral_error, dihedral_spread, retro_lobe, reciprocal, fidelity, normal, tangent, fN, fT, fB);
     vec3 wLocal;
     if (!rp_to_local(fN, fT, fB, w, wLocal) || !(wLocal.z >= RP_MIN_COS)) return;
     rp_estimates_at(m, wLocal, surface, retro, diffuse, alphaO);
@@ -3526,7 +3556,7 @@ void rp_prismatic_retroreflector_estimates(float weight, vec3 diffuse_color, vec
 // reflected direction spreads twice as wide as the normals), and the diffuse lobe
 // by the irradiance. Opaque: throughput 0. The normal faces the viewer, as in
 // MaterialX's other BSDFs.
-void mx_rp_prismatic_retroreflector_bsdf(ClosureData closureData, float weight, vec3 diffuse_color, vec3 retro_color, float specular, float roughness, float ior, int prism_reflection, float metal_reflectance, int era_mode, float orientation, float cant_angle, float dihedral_error, int retro_lobe, bool reciprocal, int fidelity, vec3 normal, vec3 tangent, inout BSDF bsdf)
+void mx_rp_prismatic_retroreflector_bsdf(ClosureData closureData, float weight, vec3 diffuse_color, vec3 retro_color, float specular, float roughness, float ior, int prism_reflection, float metal_reflectance, int era_mode, float orientation, float cant_angle, float dihedral_error, float dihedral_spread, int retro_lobe, bool reciprocal, int fidelity, vec3 normal, vec3 tangent, inout BSDF bsdf)
 {
     bsdf.throughput = vec3(0.0);
     vec3 V = closureData.V;
@@ -3542,7 +3572,7 @@ void mx_rp_prismatic_retroreflector_bsdf(ClosureData closureData, float weight, 
         vec3 retro;
         vec3 diffuse;
         float pdf;
-        rp_prismatic_retroreflector_eval(weight, diffuse_color, retro_color, specular, roughness, ior, prism_reflection, metal_reflectance, era_mode, orientation, cant_angle, dihedral_error, retro_lobe, reciprocal, fidelity, N, tangent, L, V, surface, retro, diffuse, pdf);
+        rp_prismatic_retroreflector_eval(weight, diffuse_color, retro_color, specular, roughness, ior, prism_reflection, metal_reflectance, era_mode, orientation, cant_angle, dihedral_error, dihedral_spread, retro_lobe, reciprocal, fidelity, N, tangent, L, V, surface, retro, diffuse, pdf);
         float NdotL = max(dot(fN, L), 0.0);
         bsdf.response = (surface + retro + diffuse) * NdotL * closureData.occlusion;
     }
@@ -3552,7 +3582,7 @@ void mx_rp_prismatic_retroreflector_bsdf(ClosureData closureData, float weight, 
         vec3 albedoRetro;
         vec3 albedoDiffuse;
         float alphaO;
-        rp_prismatic_retroreflector_estimates(weight, diffuse_color, retro_color, specular, roughness, ior, prism_reflection, metal_reflectance, era_mode, orientation, cant_angle, dihedral_error, retro_lobe, reciprocal, fidelity, N, tangent, V, albedoSurface, albedoRetro, albedoDiffuse, alphaO);
+        rp_prismatic_retroreflector_estimates(weight, diffuse_color, retro_color, specular, roughness, ior, prism_reflection, metal_reflectance, era_mode, orientation, cant_angle, dihedral_error, dihedral_spread, retro_lobe, reciprocal, fidelity, N, tangent, V, albedoSurface, albedoRetro, albedoDiffuse, alphaO);
         // MaterialX's environment integrals divide by N.V: a view at or below the
         // horizon of the node's frame (where the estimates are zero) gets no
         // environment light, and the integrals see the node's frame (a tangent along
