@@ -88,6 +88,7 @@ const std::map<std::string, Variation>& variations() {
          {[](Params& p) { p.era_mode = 2; }, [](Params& p) { p.orientation = 30.0; }}},
         {"cant_angle", {[](Params&) {}, [](Params& p) { p.cant_angle = 15.0; }}},
         {"dihedral_error", {[](Params&) {}, [](Params& p) { p.dihedral_error = 10.0; }}},
+        {"dihedral_spread", {[](Params&) {}, [](Params& p) { p.dihedral_spread = 10.0; }}},
         {"retro_lobe", {[](Params&) {}, [](Params& p) { p.retro_lobe = 1; }}},
         {"reciprocal", {[](Params&) {}, [](Params& p) { p.reciprocal = true; }}},
         {"fidelity", {[](Params& p) { p.roughness = 0.3; }, [](Params& p) { p.fidelity = 1; }}},

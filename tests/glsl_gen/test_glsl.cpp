@@ -231,9 +231,9 @@ TEST_CASE("Each specialised variant computes what the C++ reference computes", "
 
 TEST_CASE("cant_angle 0 and dihedral_error 0 in the full variant are the paper's cube's code",
           "[glsl]") {
-    // The full variant (cant_angle and dihedral_error at run time) against the same variant with
-    // both fixed at 0 at generation time (the canted and the ring's code left out): a cant_angle
-    // and a dihedral_error of 0 leave the paper's perfect cube's code unchanged, bit for bit,
+    // The full variant (cant_angle, dihedral_error and dihedral_spread at run time) against the
+    // same variant with them fixed at 0 at generation time (the canted and the dihedral code
+    // left out): all three at 0 leave the paper's perfect cube's code unchanged, bit for bit,
     // except in the azimuth integrator (the averaged mode's exact tier for uncoated prisms and
     // metallized prisms' face hits). One call serves canted and paper faces there, and where the
     // variant has no canted code the compiler sees the paper's faces as constants and folds and
@@ -251,6 +251,7 @@ TEST_CASE("cant_angle 0 and dihedral_error 0 in the full variant are the paper's
         Params flat = q.material;
         flat.cant_angle = 0.0;
         flat.dihedral_error = 0.0;
+        flat.dihedral_spread = 0.0;
         const bool viaIntegrator =
             flat.era_mode == 0 &&
             ((flat.prism_reflection == 1 && flat.fidelity == 0) || flat.prism_reflection == 2);
