@@ -167,6 +167,12 @@ void MaterialXRunner::set_material(const Params& p) {
     bind_environment(program_, envTex_);
 }
 
+void MaterialXRunner::set_inputs(const Params& p) {
+    context_.use();
+    glUseProgram(program_);
+    set_material(p);
+}
+
 namespace {
 
 // A quad over [-1, 1]^2 at z = 0 with constant normal and tangent attributes.

@@ -89,9 +89,14 @@ class MaterialXRunner {
     // f (N.L) is divided by N.L. The pdf is not part of a MaterialX shader: Result::pdf is NaN.
     std::vector<Result> evaluate(const Params& p, const std::vector<std::array<Vec3d, 2>>& pairs);
 
+    // Sets the node's inputs (all but the vectors, which come from the geometry) to those of
+    // `p`, in place of the values the document gave the shader, for the renders that follow:
+    // one compiled program serves every document whose shader differs only in those values.
+    void set_inputs(const Params& p);
+
     // A w x h image of the unit square z = 0 ([-1, 1]^2, normal +z) seen by a pinhole camera at
     // `eye` looking at the origin (vertical field of view fovDeg), lit by `lights`, with the
-    // node's inputs as the document gives them.
+    // node's inputs as the document gives them (or as set_inputs last set them).
     MxImage render(int w, int h, const Vec3d& eye, double fovDeg,
                    const std::vector<MxLight>& lights);
 
