@@ -255,7 +255,7 @@ struct ShapeSearch {
 
 BoxVar fit_range(const char* name) {
     for (const FitInfo& f : fit_table())
-        if (f.param->name == name) return {f.lo, f.hi, f.scale == FitScale::Log};
+        if (std::string(f.param->name) == name) return {f.lo, f.hi, f.scale == FitScale::Log};
     return {0.0, 0.0, false}; // not reached: the parameter table fits both geometry inputs
 }
 
