@@ -66,14 +66,16 @@ struct Loader {
 };
 
 // The material classes with a branch-free evaluation: the averaged ERA of the paper's cube
-// (no cant, no dihedral errors) in the paper's (not reciprocal) form, with ideal prisms in either
-// fidelity tier or uncoated ones in the fast tier (its table). Their kernels copy the material
-// with its mode fields set to constants, so that the core's branches on them fold away when it
-// is inlined into the loop; every other material runs the core as it is (Mode::General).
+// (no cant, no dihedral errors) in the paper's (not reciprocal) form with an isotropic retro lobe,
+// with ideal prisms in either fidelity tier or uncoated ones in the fast tier (its table). Their
+// kernels copy the material with its mode fields set to constants, so that the core's branches on
+// them fold away when it is inlined into the loop; every other material runs the core as it is
+// (Mode::General).
 enum class Mode { General, IdealExact, IdealFast, TirFast };
 
 Mode mode_of(const f32::rp_material& m) {
-    if (m.era_mode != f32::RP_ERA_AVERAGED || m.canted != 0 || m.dihedral != 0 || m.reciprocal != 0)
+    if (m.era_mode != f32::RP_ERA_AVERAGED || m.canted != 0 || m.dihedral != 0 ||
+        m.reciprocal != 0 || m.retro_anisotropic != 0)
         return Mode::General;
     if (m.prism_reflection == f32::RP_PRISM_IDEAL)
         return m.fidelity == f32::RP_FIDELITY_FAST ? Mode::IdealFast : Mode::IdealExact;
@@ -90,6 +92,7 @@ inline __attribute__((always_inline)) f32::rp_material specialised(const f32::rp
         m.canted = 0;
         m.dihedral = 0;
         m.reciprocal = 0;
+        m.retro_anisotropic = 0;
         m.prism_reflection = M == Mode::TirFast ? f32::RP_PRISM_TIR : f32::RP_PRISM_IDEAL;
         m.fidelity = M == Mode::IdealExact ? f32::RP_FIDELITY_EXACT : f32::RP_FIDELITY_FAST;
     }

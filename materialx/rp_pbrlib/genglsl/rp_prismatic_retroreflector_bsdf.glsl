@@ -2426,9 +2426,13 @@ float rp_retro_fraction_oriented(in rp_material m, vec3 d) {
 
 // Linear interpolation in the azimuth-averaged table of A over t = tan(theta_t) in
 // [0, RP_ERA_TAN_MAX] (A = 0 beyond: theta_t > 54.74 deg).
+// Beyond the table's end (and for NaN) it reads the last interval at its end, A at
+// RP_ERA_TAN_MAX, which is 0: one select on x and no branch, so that the C++ batch kernels'
+// vectorised loops read the table without a mask.
 float rp_era_averaged(float tanThetaT) {
-    if (!(tanThetaT < RP_ERA_TAN_MAX)) return float(0.0);
-    float x = max(tanThetaT, float(0.0)) * float(RP_ERA_AVG_N - 1) / RP_ERA_TAN_MAX;
+    float x = tanThetaT < RP_ERA_TAN_MAX
+                 ? max(tanThetaT, float(0.0)) * float(RP_ERA_AVG_N - 1) / RP_ERA_TAN_MAX
+                 : float(RP_ERA_AVG_N - 1);
     int i = min(int(x), RP_ERA_AVG_N - 2);
     float f = x - float(i);
     return mix(rp_era_avg_table_at(i), rp_era_avg_table_at(i + 1), f);
@@ -2967,13 +2971,16 @@ void rp_make_frame(vec3 normal, vec3 tangent, out vec3 fN, out vec3 fT,
 // A direction given in the frame's parent space, in the local frame (x along the tangent,
 // z along the normal); false for a zero, tiny, non-finite or overflowing direction (rp_unit).
 // A direction within RP_UNIT_TOL of unit length is used as given, any other is normalised.
+// Selects on the input rather than branches, so that the C++ batch kernels' vectorised loops run
+// it without masks: a rejected direction becomes 0 before the arithmetic.
 bool rp_to_local(vec3 fN, vec3 fT, vec3 fB, vec3 w, out vec3 local) {
     float len2 = dot(w, w);
-    local = vec3(float(0.0));
-    vec3 u = w;
-    if (!(abs(len2 - float(1.0)) <= RP_UNIT_TOL) && !rp_unit(w, u)) return false;
+    bool asIs = abs(len2 - float(1.0)) <= RP_UNIT_TOL;
+    bool ok = len2 >= RP_TINY && len2 < RP_HUGE; // true when asIs
+    vec3 wOk = ok ? w : vec3(float(0.0));
+    vec3 u = asIs ? wOk : wOk / sqrt(ok ? len2 : float(1.0));
     local = vec3(dot(u, fT), dot(u, fB), dot(u, fN));
-    return true;
+    return ok;
 }
 
 
