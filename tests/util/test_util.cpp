@@ -98,7 +98,7 @@ TEST_CASE("Rng: one stream per (seed, stream), uniform in [0, 1)", "[util]") {
 }
 
 TEST_CASE("parallel_for and parallel_ranges visit every item once, whatever the threads",
-          "[util]") {
+          "[util][threads]") {
     for (const int threads : {0, 1, 2, 3, 8})
         for (const std::size_t n : {std::size_t(0), std::size_t(1), std::size_t(1000)}) {
             INFO("threads " << threads << ", n " << n);
