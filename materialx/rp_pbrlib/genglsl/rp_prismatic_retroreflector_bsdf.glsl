@@ -2207,19 +2207,24 @@ float rp_tan2(vec3 w) {
 // Beckmann NDF D(m) = exp(-tan^2/alpha^2) / (pi alpha^2 cos^4), written with
 // 1/cos^4 = (1 + tan^2)^2 so that no cosine is divided by, from invAlpha2 = 1 / alpha^2.
 // 0 beyond RP_MAX_EXP.
+// exp's argument is clamped to the range it is used in: a vectorised loop (the C++ batch
+// kernels) evaluates it for every lane, and vector exp takes a slow path for underflowing ones.
 float rp_beckmann_D(float tan2ThetaM, float invAlpha2) {
     float x = tan2ThetaM * invAlpha2;
+    float e = exp(-min(x, RP_MAX_EXP));
     if (!(x <= RP_MAX_EXP)) return float(0.0);
     float s = float(1.0) + tan2ThetaM;
-    return exp(-x) * s * s * RP_INV_PI * invAlpha2;
+    return e * s * s * RP_INV_PI * invAlpha2;
 }
 
 // Smith Lambda of Beckmann (Walter et al. 2007, Eq. 27 with the exact erf) of a = 1/(alpha tan):
 // Lambda = (erf(a) - 1)/2 + exp(-a^2)/(2 a sqrt(pi)), written with erfc to avoid the
 // cancellation of erf(a) - 1; 0 for a > RP_LAMBDA_EXACT_CUT = 9 (Lambda < 1e-37 there).
+// exp and erfc get a clamped to the cut (as rp_beckmann_D's exp).
 float rp_beckmann_lambda_of_a(float a) {
+    float ac = min(a, RP_LAMBDA_EXACT_CUT);
+    float lambda = float(0.5) * (exp(-ac * ac) * RP_INV_SQRT_PI / ac - rp_erfc(ac));
     if (!(a <= RP_LAMBDA_EXACT_CUT)) return float(0.0);
-    float lambda = float(0.5) * (exp(-a * a) * RP_INV_SQRT_PI / a - rp_erfc(a));
     return max(lambda, float(0.0));
 }
 
@@ -3216,8 +3221,9 @@ float rp_retro_density(in rp_incident s, vec3 wo, vec3 wi) {
         if (!(ring > float(0.0))) return float(0.0);
         return invCosP * invCosP * invCosP * s.retroNorm * ring;
     }
+    float e = exp(-min(x, RP_MAX_EXP)); // clamped as rp_beckmann_D's
     if (!(x <= RP_MAX_EXP)) return float(0.0);
-    return invCosP * invCosP * invCosP * s.retroNorm * exp(-x);
+    return invCosP * invCosP * invCosP * s.retroNorm * e;
 }
 
 // The reciprocal form of the retro lobe (MODEL.md section 3): E, G1(mu_t), alpha_o and the lobe
