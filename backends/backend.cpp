@@ -5,6 +5,7 @@
 #include <map>
 #include <mutex>
 
+#include "batch.h"
 #include "gl_runner.h"
 #include "mx_runner.h"
 #include "paths.h"
@@ -28,6 +29,41 @@ class CppBackend final : public Backend {
 
   private:
     std::string name_;
+};
+
+// The node over one batch of all the pairs (nodes/batch.h), in float, with the pdf.
+class CppBatchBackend final : public Backend {
+  public:
+    std::string name() const override { return "cpp-batch"; }
+    std::vector<BackendResult> evaluate(const Params& p,
+                                        const std::vector<DirectionPair>& pairs) override {
+        const std::size_t n = pairs.size();
+        std::vector<float> in(6 * n), out(10 * n);
+        for (std::size_t i = 0; i < n; ++i)
+            for (int c = 0; c < 3; ++c) {
+                in[c * n + i] = float(pairs[i].wi[c]);
+                in[(3 + c) * n + i] = float(pairs[i].wo[c]);
+            }
+        auto column = [&](int c) { return out.data() + c * n; };
+        const BatchLobes lobes{{column(0), column(1), column(2)},
+                               {column(3), column(4), column(5)},
+                               {column(6), column(7), column(8)}};
+        BatchEvaluator(p).eval(n, {&in[0], &in[n], &in[2 * n]},
+                               {&in[3 * n], &in[4 * n], &in[5 * n]}, lobes, column(9));
+        std::vector<BackendResult> res(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            BackendResult& r = res[i];
+            for (int c = 0; c < 3; ++c) {
+                r.surface[c] = column(c)[i];
+                r.retro[c] = column(3 + c)[i];
+                r.diffuse[c] = column(6 + c)[i];
+                // The sum in float, as the float node's Lobes::total().
+                r.f[c] = double(column(c)[i] + column(3 + c)[i] + column(6 + c)[i]);
+            }
+            r.pdf = column(9)[i];
+        }
+        return res;
+    }
 };
 
 std::vector<std::array<Vec3d, 2>> gl_pairs(const std::vector<DirectionPair>& pairs) {
@@ -86,6 +122,7 @@ const std::vector<std::pair<std::string, Factory>>& registry() {
     static const std::vector<std::pair<std::string, Factory>> r = {
         {"cpp-double", [] { return std::make_unique<CppBackend<double>>("cpp-double"); }},
         {"cpp-float", [] { return std::make_unique<CppBackend<float>>("cpp-float"); }},
+        {"cpp-batch", [] { return std::make_unique<CppBatchBackend>(); }},
         {"glsl",
          [] { return std::make_unique<GlBackend<gl::Runner>>("glsl", gl::embedded_library()); }},
         {"materialx",

@@ -1,5 +1,6 @@
 // backend.h: the backends that evaluate the node, behind one interface and found by name in
-// one registry: cpp-double (the reference), cpp-float, glsl (the generated library on OpenGL)
+// one registry: cpp-double (the reference), cpp-float, cpp-batch (the float node over one batch,
+// nodes/batch.h), glsl (the generated library on OpenGL)
 // and materialx (the shader real MaterialX generates, on OpenGL), which implement the node
 // exactly; and the approximation materialx-portable (the portable nodegraph, the node's
 // implementation for OSL and MDL, through the GLSL real MaterialX generates of it, on OpenGL).

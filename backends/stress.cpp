@@ -33,8 +33,9 @@
 // sample() is also called with u outside its contract [0, 1)^3 (NaN, Inf, negative, > 1): it
 // clamps u (NaN taken as 0), so such a sample must be finite and non-negative too.
 //
-// Sizes (Options): 1e7 evaluations for each C++ backend and 1e6 for each GL one, batched per
-// material (about 2500 pairs each). Measured on two cores with llvmpipe: cpp-double 5 s,
+// Sizes (Options): 1e7 evaluations for each C++ backend (cpp-batch included: one batch per
+// material, checked as a GL backend's answers) and 1e6 for each GL one, batched per material
+// (about 2500 pairs each). Measured on two cores with llvmpipe: cpp-double 5 s,
 // cpp-float 4 s, glsl 2 s, materialx 35 s on an idle machine, up to four times that under load.
 #include "stress.h"
 
@@ -1094,6 +1095,24 @@ Tally sweep_cpp(const Options& opt) {
     return total;
 }
 
+// The batch backend (cpp-batch): materials in parallel as sweep_cpp, each one batch checked as
+// a GL backend's answers (values and guards) into its own tally, merged in order.
+Tally sweep_batch_backend(const Options& opt) {
+    Backend& batch = backend("cpp-batch");
+    const size_t perMaterial = pairs_per_material() / size_t(std::max(1, opt.pair_stride));
+    const size_t count = (size_t(opt.cpp_evaluations) + perMaterial - 1) / perMaterial;
+    std::vector<Tally> parts(count);
+    parallel_for(count, opt.threads, [&](size_t i) {
+        std::string label;
+        const Params p = material(long(i), &label);
+        sweep_gl(batch, p, label, material_pairs(p, long(i), true, opt), 0, parts[i]);
+    });
+    Tally total;
+    for (const Tally& part : parts)
+        total.add(part);
+    return total;
+}
+
 // A GL backend: materials in turn, one batch per material or batches of 5, 61, 256 or 700
 // pairs, in turn.
 Tally sweep_gl_backend(Backend& gl, const Options& opt) {
@@ -1113,6 +1132,7 @@ Tally sweep_backend(const std::string& name, const Options& opt) {
     const auto t0 = std::chrono::steady_clock::now();
     Tally t = name == "cpp-double"  ? sweep_cpp<double>(opt)
               : name == "cpp-float" ? sweep_cpp<float>(opt)
+              : name == "cpp-batch" ? sweep_batch_backend(opt)
                                     : sweep_gl_backend(backend(name), opt); // InputError if unknown
     t.backend = name;
     t.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -7,6 +7,8 @@
 #include <memory>
 
 #include "baselines.h"
+#include "batch.h"
+#include "batch_baseline.h"
 #include "prismatic_retroreflector.h"
 #include "variants.h"
 
@@ -162,6 +164,76 @@ void bm_baseline(benchmark::State& state, B model) {
     state.SetItemsProcessed(int64_t(state.iterations()) * kPairs);
 }
 
+// The direction pairs (and random numbers for sample) as structure-of-arrays batches.
+struct BatchPairs {
+    std::vector<float> a[9];    // wi, wo, u
+    std::vector<float> out[14]; // 9 lobe channels, pdf, sampled direction (3)
+    std::vector<int> lobe;
+    BatchPairs() {
+        std::uint64_t state = 99;
+        for (const Pair& q : pairs()) {
+            for (int c = 0; c < 3; ++c) {
+                a[c].push_back(float(q.wi[c]));
+                a[3 + c].push_back(float(q.wo[c]));
+                state = state * 6364136223846793005ull + 1442695040888963407ull;
+                a[6 + c].push_back(float(double(state >> 11) * 0x1.0p-53));
+            }
+        }
+        for (auto& v : out)
+            v.assign(pairs().size(), 0.0f);
+        lobe.assign(pairs().size(), 0);
+    }
+    BatchDirections in(int k) const { return {a[k].data(), a[k + 1].data(), a[k + 2].data()}; }
+    BatchColors rgb(int k) { return {out[k].data(), out[k + 1].data(), out[k + 2].data()}; }
+    BatchLobes lobes() { return {rgb(0), rgb(3), rgb(6)}; }
+};
+
+// The node over one batch of the pairs (nodes/batch.h), one thread: f alone, f + pdf, or sample.
+enum class BatchCall { F, FPdf, Sample };
+void bm_batch(benchmark::State& state, Params p, BatchCall call) {
+    const BatchEvaluator batch(p);
+    BatchPairs d;
+    const BatchSamples samples{d.out[10].data(), d.out[11].data(), d.out[12].data(),
+                               d.lobes(),        d.out[9].data(),  d.lobe.data()};
+    for (auto _ : state) {
+        if (call == BatchCall::Sample)
+            batch.sample(kPairs, d.in(0), d.in(6), samples);
+        else
+            batch.eval(kPairs, d.in(0), d.in(3), d.lobes(),
+                       call == BatchCall::FPdf ? d.out[9].data() : nullptr);
+        benchmark::DoNotOptimize(d.out[4].data());
+        benchmark::ClobberMemory();
+    }
+    state.SetItemsProcessed(int64_t(state.iterations()) * kPairs);
+}
+
+// The MaterialX-style GGX over one batch by the same means (bench/batch_baseline.h).
+void bm_mrm_batch(benchmark::State& state, baselines::RetroreflectiveGGXT<float> model) {
+    BatchPairs d;
+    for (auto _ : state) {
+        mrm_batch_f(model, kPairs, d.in(0), d.in(3), d.rgb(0));
+        benchmark::DoNotOptimize(d.out[0].data());
+        benchmark::ClobberMemory();
+    }
+    state.SetItemsProcessed(int64_t(state.iterations()) * kPairs);
+}
+
+// The batch evaluator for material p, one query at a time, as a LocalEval (its errors).
+LocalEval batch_eval(const Params& p) {
+    const auto batch = std::make_shared<const BatchEvaluator>(p);
+    return [batch](const glm::dvec3& wi, const glm::dvec3& wo, glm::dvec3 f[3]) {
+        const float in[6] = {float(wi.x), float(wi.y), float(wi.z),
+                             float(wo.x), float(wo.y), float(wo.z)};
+        float out[9];
+        batch->eval(
+            1, {&in[0], &in[1], &in[2]}, {&in[3], &in[4], &in[5]},
+            {{&out[0], &out[1], &out[2]}, {&out[3], &out[4], &out[5]}, {&out[6], &out[7], &out[8]}},
+            nullptr);
+        for (int k = 0; k < 3; ++k)
+            f[k] = glm::dvec3(out[3 * k], out[3 * k + 1], out[3 * k + 2]);
+    };
+}
+
 // A prepared for material p, as a LocalEval.
 template <class A>
 LocalEval local_eval(const Params& p) {
@@ -201,6 +273,26 @@ Row node_row(const std::string& name, const std::string& tier, const std::string
     r.material = p;
     r.reference = ref;
     r.make_eval = local_eval<A>;
+    return r;
+}
+
+Row batch_row(const std::string& name, const std::string& tier, const Params& p,
+              const Params& ref) {
+    benchmark::RegisterBenchmark(("eval/" + name).c_str(), bm_batch, p, BatchCall::F);
+    benchmark::RegisterBenchmark(("eval_pdf/" + name).c_str(), bm_batch, p, BatchCall::FPdf);
+    benchmark::RegisterBenchmark(("sample_pdf/" + name).c_str(), bm_batch, p, BatchCall::Sample);
+    Row r;
+    r.name = name;
+    r.tier = tier;
+    r.lobes = "surface+retro+diffuse";
+    r.config = std::string("ideal prisms, one batch of ") + std::to_string(kPairs) +
+               " pairs (nodes/batch.h), " + simd_level_name(simd_level_supported()) +
+               " kernels, one thread";
+    r.has_sample = true;
+    r.mask = 7;
+    r.material = p;
+    r.reference = ref;
+    r.make_eval = batch_eval;
     return r;
 }
 
@@ -286,6 +378,18 @@ const std::vector<Row>& rows() {
         out.push_back(baseline_row("beckmann_ct", "Beckmann Cook-Torrance, float", ct));
         out.push_back(
             baseline_row("mrm_ggx", "MaterialX-style retroreflective GGX + Lambert, float", mrm));
+        out.push_back(batch_row("batch_exact", "exact", ideal, ideal));
+        out.push_back(batch_row("batch_fast", "fast", idealFast, ideal));
+        benchmark::RegisterBenchmark("eval/mrm_ggx_batch", bm_mrm_batch, mrm);
+        Row mrmBatch;
+        mrmBatch.name = "mrm_ggx_batch";
+        mrmBatch.tier = "baseline";
+        mrmBatch.lobes = "mrm_ggx";
+        mrmBatch.config = std::string("mrm_ggx over one batch by the batch rows' means "
+                                      "(bench/batch_baseline.h), ") +
+                          simd_level_name(simd_level_supported()) + " kernels, one thread";
+        mrmBatch.baseline = true;
+        out.push_back(mrmBatch);
         return out;
     }();
     return all;

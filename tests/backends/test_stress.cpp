@@ -97,6 +97,12 @@ TEST_CASE("bounded adversarial sweep: cpp-float", "[stress][ci]") {
     require_clean(t);
 }
 
+TEST_CASE("bounded adversarial sweep: cpp-batch", "[stress][ci]") {
+    const stress::Tally t = bounded_sweep("cpp-batch");
+    CHECK(t.evaluations > 0);
+    require_clean(t);
+}
+
 TEST_CASE("bounded adversarial sweep: glsl", "[stress][ci]") {
     require_clean(bounded_sweep("glsl"));
 }

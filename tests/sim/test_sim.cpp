@@ -368,7 +368,7 @@ TEST_CASE("Every ray's fate is counted; a lossless sheet reflects every ray", "[
                 "every ray\n");
 }
 
-TEST_CASE("Results depend on the seed only, not on the number of threads", "[sim]") {
+TEST_CASE("Results depend on the seed only, not on the number of threads", "[sim][threads]") {
     sim::Sheet sh = sim::sheet_from_params(sheet_params(0.1, 1.586, f64::RP_PRISM_TIR, 0.8));
     const dvec3 wi = dir_deg(35, 20);
     const std::vector<sim::Grid> grids = sim::standard_grids(sh, wi);

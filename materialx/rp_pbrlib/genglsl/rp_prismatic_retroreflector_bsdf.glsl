@@ -2209,19 +2209,24 @@ float rp_tan2(vec3 w) {
 // Beckmann NDF D(m) = exp(-tan^2/alpha^2) / (pi alpha^2 cos^4), written with
 // 1/cos^4 = (1 + tan^2)^2 so that no cosine is divided by, from invAlpha2 = 1 / alpha^2.
 // 0 beyond RP_MAX_EXP.
+// exp's argument is clamped to the range it is used in: a vectorised loop (the C++ batch
+// kernels) evaluates it for every lane, and vector exp takes a slow path for underflowing ones.
 float rp_beckmann_D(float tan2ThetaM, float invAlpha2) {
     float x = tan2ThetaM * invAlpha2;
+    float e = exp(-min(x, RP_MAX_EXP));
     if (!(x <= RP_MAX_EXP)) return float(0.0);
     float s = float(1.0) + tan2ThetaM;
-    return exp(-x) * s * s * RP_INV_PI * invAlpha2;
+    return e * s * s * RP_INV_PI * invAlpha2;
 }
 
 // Smith Lambda of Beckmann (Walter et al. 2007, Eq. 27 with the exact erf) of a = 1/(alpha tan):
 // Lambda = (erf(a) - 1)/2 + exp(-a^2)/(2 a sqrt(pi)), written with erfc to avoid the
 // cancellation of erf(a) - 1; 0 for a > RP_LAMBDA_EXACT_CUT = 9 (Lambda < 1e-37 there).
+// exp and erfc get a clamped to the cut (as rp_beckmann_D's exp).
 float rp_beckmann_lambda_of_a(float a) {
+    float ac = min(a, RP_LAMBDA_EXACT_CUT);
+    float lambda = float(0.5) * (exp(-ac * ac) * RP_INV_SQRT_PI / ac - rp_erfc(ac));
     if (!(a <= RP_LAMBDA_EXACT_CUT)) return float(0.0);
-    float lambda = float(0.5) * (exp(-a * a) * RP_INV_SQRT_PI / a - rp_erfc(a));
     return max(lambda, float(0.0));
 }
 
@@ -2428,9 +2433,13 @@ float rp_retro_fraction_oriented(in rp_material m, vec3 d) {
 
 // Linear interpolation in the azimuth-averaged table of A over t = tan(theta_t) in
 // [0, RP_ERA_TAN_MAX] (A = 0 beyond: theta_t > 54.74 deg).
+// Beyond the table's end (and for NaN) it reads the last interval at its end, A at
+// RP_ERA_TAN_MAX, which is 0: one select on x and no branch, so that the C++ batch kernels'
+// vectorised loops read the table without a mask.
 float rp_era_averaged(float tanThetaT) {
-    if (!(tanThetaT < RP_ERA_TAN_MAX)) return float(0.0);
-    float x = max(tanThetaT, float(0.0)) * float(RP_ERA_AVG_N - 1) / RP_ERA_TAN_MAX;
+    float x = tanThetaT < RP_ERA_TAN_MAX
+                 ? max(tanThetaT, float(0.0)) * float(RP_ERA_AVG_N - 1) / RP_ERA_TAN_MAX
+                 : float(RP_ERA_AVG_N - 1);
     int i = min(int(x), RP_ERA_AVG_N - 2);
     float f = x - float(i);
     return mix(rp_era_avg_table_at(i), rp_era_avg_table_at(i + 1), f);
@@ -2979,13 +2988,16 @@ void rp_make_frame(vec3 normal, vec3 tangent, out vec3 fN, out vec3 fT,
 // A direction given in the frame's parent space, in the local frame (x along the tangent,
 // z along the normal); false for a zero, tiny, non-finite or overflowing direction (rp_unit).
 // A direction within RP_UNIT_TOL of unit length is used as given, any other is normalised.
+// Selects on the input rather than branches, so that the C++ batch kernels' vectorised loops run
+// it without masks: a rejected direction becomes 0 before the arithmetic.
 bool rp_to_local(vec3 fN, vec3 fT, vec3 fB, vec3 w, out vec3 local) {
     float len2 = dot(w, w);
-    local = vec3(float(0.0));
-    vec3 u = w;
-    if (!(abs(len2 - float(1.0)) <= RP_UNIT_TOL) && !rp_unit(w, u)) return false;
+    bool asIs = abs(len2 - float(1.0)) <= RP_UNIT_TOL;
+    bool ok = len2 >= RP_TINY && len2 < RP_HUGE; // true when asIs
+    vec3 wOk = ok ? w : vec3(float(0.0));
+    vec3 u = asIs ? wOk : wOk / sqrt(ok ? len2 : float(1.0));
     local = vec3(dot(u, fT), dot(u, fB), dot(u, fN));
-    return true;
+    return ok;
 }
 
 
@@ -3251,8 +3263,9 @@ float rp_retro_density(in rp_incident s, vec3 wo, vec3 wi) {
         if (!(ring > float(0.0))) return float(0.0);
         return invCosP * invCosP * invCosP * s.retroNorm * ring;
     }
+    float e = exp(-min(x, RP_MAX_EXP)); // clamped as rp_beckmann_D's
     if (!(x <= RP_MAX_EXP)) return float(0.0);
-    return invCosP * invCosP * invCosP * s.retroNorm * exp(-x);
+    return invCosP * invCosP * invCosP * s.retroNorm * e;
 }
 
 // The reciprocal form of the retro lobe (MODEL.md section 3): E, G1(mu_t), alpha_o and the lobe
