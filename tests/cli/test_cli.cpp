@@ -134,8 +134,8 @@ TEST_CASE("Bad queries and materials are rejected, naming what is wrong", "[cli]
         run("eval --backend vulkan " + write_temp("ok.json", R"({"samples": []})").string());
     CHECK(backend.status != 0);
     CHECK(contains(backend.output,
-                   "unknown backend (backends: cpp-double, cpp-float, glsl, materialx, "
-                   "materialx-portable)"));
+                   "unknown backend (backends: cpp-double, cpp-float, cpp-batch, glsl, "
+                   "materialx, materialx-portable)"));
 }
 
 TEST_CASE("era and albedo commands", "[cli]") {
