@@ -1,17 +1,18 @@
 // mx_cost.cpp: MaterialX's generated shaders measured as the GLSL variants are (mx_cost.h).
 #include "mx_cost.h"
 
+#include <unistd.h>
+
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
-#include <unistd.h>
-#include <algorithm>
 
 #include "glsl_gen.h"
 #include "mx_runner.h"
 #include "prismatic_retroreflector.h"
+#include "text_file.h"
 
 namespace retroprism::bench {
 
@@ -23,13 +24,6 @@ std::string num(double x) {
     char b[32];
     std::snprintf(b, sizeof b, "%.6g", x);
     return b;
-}
-
-std::string read_text(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
 }
 
 // Pixels per second of `shaders` rendering a 512 x 512 view of the unit square under one
@@ -113,7 +107,7 @@ std::vector<MxShaderCost> mx_shader_costs(const std::string& dataDir, bool timed
             c.material = d.label;
             c.description = d.description;
             c.spirvInstructions = glsl::spirv_instructions_of(
-                read_text(dir / (std::string(d.material) + ".vulkan.frag")), "frag",
+                read_text_file((dir / (std::string(d.material) + ".vulkan.frag")).string()), "frag",
                 std::string("mx_") + d.label, &c.spirvConstants);
             if (timed)
                 c.pixelsPerSecond =

@@ -68,12 +68,12 @@ std::uint64_t fate_sum(const sim::Tally& t) {
     return s;
 }
 
-// A square window of 70 x 70 gnomonic cells about wi, half-width `half` in slope, in the retro
+// A square window of n x n gnomonic cells about wi, half-width `half` in slope, in the retro
 // lobe's frame (along and across the plane of incidence).
-sim::Grid retro_window(const dvec3& wi, double half) {
+sim::Grid retro_window(const dvec3& wi, double half, int n = 70) {
     dvec3 ePar, ePerp;
     sim::lobe_frame(wi, ePar, ePerp);
-    return sim::gnomonic_grid("retro", wi, ePar, ePerp, half, half, 70, 70);
+    return sim::gnomonic_grid("retro", wi, ePar, ePerp, half, half, n, n);
 }
 
 // Standard normal two-sided tail bound: |z| beyond this has probability below 1e-4.
@@ -513,6 +513,23 @@ SpotMoments spot_moments(const sim::Sheet& sheet, const dvec3& d, std::uint64_t 
     return m;
 }
 
+// spot_moments of the sheet of `p` for the inner direction at thetaT (degrees, azimuth 40),
+// beside the node's (rp_prepare): ring_par + spread2 along the plane of incidence and
+// ring_par - ring_tilt sin^2(theta_t) + spread2 across it.
+struct MomentsAgainstNode {
+    SpotMoments got;
+    double wantPar = 0, wantPerp = 0;
+};
+MomentsAgainstNode moments_against_node(const Params& p, double thetaT, std::uint64_t seed) {
+    const f64::rp_material m = retroprism::prepare_material(retroprism::sanitize(p));
+    MomentsAgainstNode r;
+    r.got = spot_moments(sim::sheet_from_params(p), -dir_deg(thetaT, 40.0), 40000, seed);
+    const double s2 = std::sin(thetaT * kDeg) * std::sin(thetaT * kDeg);
+    r.wantPar = m.ring_par + m.spread2;
+    r.wantPerp = m.ring_par - m.ring_tilt * s2 + m.spread2;
+    return r;
+}
+
 } // namespace
 
 TEST_CASE("Dihedral errors: six spots on a ring of radius (4 sqrt6 / 3) delta at normal incidence",
@@ -591,13 +608,10 @@ TEST_CASE("Dihedral errors: the ring's second moments against the node's, by inc
             Params p;
             p.cant_angle = cant;
             p.dihedral_error = deltaArcmin;
-            const sim::Sheet sh = sim::sheet_from_params(p);
-            const f64::rp_material m = retroprism::prepare_material(retroprism::sanitize(p));
-            const dvec3 d = -dir_deg(thetaT, 40.0);
-            const SpotMoments got = spot_moments(sh, d, 40000, 101 + cases++);
+            const MomentsAgainstNode mn = moments_against_node(p, thetaT, 101 + cases++);
+            const SpotMoments& got = mn.got;
             if (got.retro == 0) continue; // no retroreflection at this incidence
-            const double s2 = std::sin(thetaT * kDeg) * std::sin(thetaT * kDeg);
-            const double wantPar = m.ring_par, wantPerp = m.ring_par - m.ring_tilt * s2;
+            const double wantPar = mn.wantPar, wantPerp = mn.wantPerp;
             // The moments' standard errors: a moment of N values in [0, 4 max] has se below its
             // mean times sqrt(4 / N) (the values are bounded by a few times their mean).
             const double se = 2.0 / std::sqrt(double(got.retro));
@@ -643,14 +657,10 @@ TEST_CASE("Dihedral spread: random errors add 4 sigma^2 along each axis, whateve
                 p.cant_angle = cant;
                 p.dihedral_error = mean;
                 p.dihedral_spread = sigmaArcmin;
-                const sim::Sheet sh = sim::sheet_from_params(p);
-                const f64::rp_material m = retroprism::prepare_material(retroprism::sanitize(p));
-                const dvec3 d = -dir_deg(thetaT, 40.0);
-                const SpotMoments got = spot_moments(sh, d, 40000, 601 + cases++);
+                const MomentsAgainstNode mn = moments_against_node(p, thetaT, 601 + cases++);
+                const SpotMoments& got = mn.got;
                 if (got.retro == 0) continue;
-                const double s2 = std::sin(thetaT * kDeg) * std::sin(thetaT * kDeg);
-                const double wantPar = m.ring_par + m.spread2;
-                const double wantPerp = m.ring_par - m.ring_tilt * s2 + m.spread2;
+                const double wantPar = mn.wantPar, wantPerp = mn.wantPerp;
                 const double se = 2.0 / std::sqrt(double(got.retro));
                 const double errPar = got.par / wantPar - 1, errPerp = got.perp / wantPerp - 1;
                 char line[200];
@@ -865,10 +875,7 @@ TEST_CASE("The DG983 preset's R_A at the datasheet's entries against the simulat
     for (double entrance : {-4.0, 30.0, 45.0}) {
         dvec3 wi, wo;
         retroprism::ra_directions(entrance, 0.2, 0.0, wi, wo);
-        dvec3 ePar, ePerp;
-        sim::lobe_frame(wi, ePar, ePerp);
-        const double half = std::tan(0.8 * kDeg);
-        const sim::Grid g = sim::gnomonic_grid("retro", wi, ePar, ePerp, half, half, 32, 32);
+        const sim::Grid g = retro_window(wi, std::tan(0.8 * kDeg), 32);
         const std::uint64_t rays = 2000000;
         const sim::Run r = run_sim(sim::sheet_from_params(p), wi, {g}, rays, 401 + cases++);
         for (double observation : {0.2, 0.5}) {

@@ -3113,27 +3113,24 @@ void rp_incident_lobes(in rp_material m, vec3 wi, out rp_incident s) {
     } else {
         invPerp = invPar;
     }
-    s.alphaPar = float(1.0) / invPar;
-    s.alphaPerp = m.retro_anisotropic != 0 ? float(1.0) / invPerp : s.alphaPar;
-    s.invAlphaPar2 = invPar * invPar;
-    s.invAlphaPerp2 = invPerp * invPerp;
-    s.retroNorm = RP_INV_PI * invPar * invPerp;
+    float alphaPar = float(1.0) / invPar;
+    float alphaPerp = float(1.0) / invPerp; // alphaPar for the isotropic lobe (invPerp = invPar)
     if (m.spread2 > float(0.0)) {
         // docs/dihedral.md: the random dihedral errors' Gaussian deviation, carried out by the
         // exit refraction (magnified by eta cos_t / cos_i along the plane of incidence, by eta
         // across it), convolved with the lobe's Gaussian: each width's square gains twice the
         // variance along its axis, alpha^2 + 8 sigma^2 mag^2.
         float magOut = m.eta * cosThetaT * s.invCosI;
-        float widePar2 = s.alphaPar * s.alphaPar + float(2.0) * m.spread2 * magOut * magOut;
-        float widePerp2 = s.alphaPerp * s.alphaPerp + float(2.0) * m.spread2 * m.eta * m.eta;
-        invPar = float(1.0) / sqrt(widePar2);
-        invPerp = float(1.0) / sqrt(widePerp2);
-        s.alphaPar = sqrt(widePar2);
-        s.alphaPerp = sqrt(widePerp2);
-        s.invAlphaPar2 = invPar * invPar;
-        s.invAlphaPerp2 = invPerp * invPerp;
-        s.retroNorm = RP_INV_PI * invPar * invPerp;
+        alphaPar = sqrt(alphaPar * alphaPar + float(2.0) * m.spread2 * magOut * magOut);
+        alphaPerp = sqrt(alphaPerp * alphaPerp + float(2.0) * m.spread2 * m.eta * m.eta);
+        invPar = float(1.0) / alphaPar;
+        invPerp = float(1.0) / alphaPerp;
     }
+    s.alphaPar = alphaPar;
+    s.alphaPerp = alphaPerp;
+    s.invAlphaPar2 = invPar * invPar;
+    s.invAlphaPerp2 = invPerp * invPerp;
+    s.retroNorm = RP_INV_PI * invPar * invPerp;
     if (m.ring_par > float(0.0)) {
         // docs/dihedral.md: the spots' inner second moments (rp_prepare) carried out by the exit
         // refraction, which magnifies deviations by eta cos_t / cos_i in the plane of incidence
