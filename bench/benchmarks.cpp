@@ -81,8 +81,9 @@ const std::vector<Pair>& pairs() {
 template <class A>
 struct Prepared {
     typename A::material m;
+    std::shared_ptr<const std::vector<typename A::real>> series; // m's, as the node attaches it
     std::vector<typename A::vec3> wi, wo, u;
-    explicit Prepared(const Params& p) : m(A::prepare(sanitize(p))) {
+    explicit Prepared(const Params& p) : m(A::prepare(sanitize(p))), series(attach_tir_average(m)) {
         using real = typename A::real;
         std::uint64_t state = 99;
         auto uniform = [&]() {
@@ -237,11 +238,11 @@ LocalEval batch_eval(const Params& p) {
 // A prepared for material p, as a LocalEval.
 template <class A>
 LocalEval local_eval(const Params& p) {
-    const auto m = std::make_shared<const typename A::material>(A::prepare(sanitize(p)));
-    return [m](const glm::dvec3& wi, const glm::dvec3& wo, glm::dvec3 f[3]) {
+    const auto d = std::make_shared<const Prepared<A>>(p);
+    return [d](const glm::dvec3& wi, const glm::dvec3& wo, glm::dvec3 f[3]) {
         using vec3 = typename A::vec3;
         typename A::lobes r;
-        A::eval_f(*m, vec3(wi), vec3(wo), r);
+        A::eval_f(d->m, vec3(wi), vec3(wo), r);
         f[0] = glm::dvec3(r.surface);
         f[1] = glm::dvec3(r.retro);
         f[2] = glm::dvec3(r.diffuse);

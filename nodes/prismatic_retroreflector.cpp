@@ -275,6 +275,7 @@ V from_array(const Vec3d& a) {
 template <class Real>
 PrismaticRetroreflector<Real>::PrismaticRetroreflector(const Params& params)
     : params_(sanitize(params)), m_(round_material<Real>(prepare_material(params_))) {
+    tirAverage_ = attach_tir_average(m_);
     n_ = from_array<vec3>(params_.normal);
     t_ = from_array<vec3>(params_.tangent);
     b_ = glm::cross(n_, t_);

@@ -27,8 +27,10 @@
 #pragma once
 
 #include <array>
+#include <memory>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "prism_core.h"
@@ -144,6 +146,37 @@ double metal_hits_averaged_direct(double tanThetaT);
 // 2e6 azimuths over one period (slow, ~0.1 s; an independent reference for tests).
 double retro_fraction_tir_averaged_direct(double tanThetaT, double eta);
 
+// The exact tier's azimuth average of E for uncoated prisms at ior eta over t = tan(theta_t) in
+// [0, sqrt2], as the piecewise Chebyshev series that rp_material::tir_average points to (layout:
+// rp_tir_average_series, prism_core.inc), interpolating rp_retro_fraction_averaged_exact at the
+// points between each interval's nodes to within 1e-9 of the interval's largest value or 1e-12
+// of E's largest, whichever is more (nodes/tir_average.cpp). The node makes it once per
+// material with uncoated prisms, the averaged ERA, the exact tier and no cant (a few ms).
+struct TirAverageSeries {
+    std::vector<double> data;
+    // The largest error at the check points in units of the tolerance (above 1 only where an
+    // interval reached the narrowest width allowed).
+    double max_check_error = 0.0;
+};
+TirAverageSeries tir_average_series(double eta);
+
+// Points m.tir_average at the series of m's eta when m has uncoated prisms, the averaged ERA,
+// the exact tier and no cant, as the node does for its own material (any precision or generated
+// variant of the core); returns the series, null when m does not use it. It must outlive every
+// use of m.
+template <class Material>
+auto attach_tir_average(Material& m) {
+    using R = std::remove_cv_t<decltype(m.eta)>;
+    std::shared_ptr<const std::vector<R>> series;
+    if (m.prism_reflection == f64::RP_PRISM_TIR && m.fidelity == f64::RP_FIDELITY_EXACT &&
+        m.era_mode == f64::RP_ERA_AVERAGED && m.canted == 0) {
+        const std::vector<double> s = tir_average_series(double(m.eta)).data;
+        series = std::make_shared<const std::vector<R>>(s.begin(), s.end());
+        m.tir_average = series->data();
+    }
+    return series;
+}
+
 template <class Real>
 class PrismaticRetroreflector {
   public:
@@ -203,6 +236,8 @@ class PrismaticRetroreflector {
     Params params_;
     material m_;
     vec3 n_, t_, b_;
+    // The series m_.tir_average points to (shared by copies), or null.
+    std::shared_ptr<const std::vector<Real>> tirAverage_;
 };
 
 extern template class PrismaticRetroreflector<float>;

@@ -17,6 +17,7 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -645,6 +646,72 @@ TEST_CASE("TIR azimuth average of A R1 R2 R3 is within 1e-5 of direct integratio
     std::printf("MEASURED: TIR azimuth average (on the fly) vs 1e5-point midpoint: %d (eta, "
                 "theta_t) points, max |err| = %.2e at eta %.3g, theta_t %.1f deg\n",
                 compared, maxErr, worstEta, worstTheta);
+}
+
+// ------------------------------------------------------------------------------------------
+// 3c. The node's series of the TIR average (nodes/tir_average.cpp) against the integral it
+// stands for, in the node of each precision.
+TEST_CASE("The exact tier's series of the TIR average matches its integral", "[physics]") {
+    using namespace retroprism;
+    // Double: within 1e-6 of rp_retro_fraction_averaged_exact relative to E (the exact tier's
+    // bound), or to 1e-3 of E's largest value at that ior where E is smaller (near the ends of
+    // its support), at 4001 values of t per eta, most between the build's check points (it
+    // accepts 1e-8 of the interval's largest value there; between nodes, and where E falls
+    // steeply within an interval, the error relative to E is larger): the integral's own error
+    // is 5.6e-7 absolute, so the series adds nothing measurable to the exact tier; relative,
+    // because near eta = 1 E is below 1e-14 and every backend must still agree on it. Float: within
+    // 1e-6 relative of the double integral for E >= 0.1 and 1e-7 absolute below (the float node's
+    // inputs are float: t's rounding alone moves E by up to ~1e-7).
+    double worst64 = 0.0, worst32 = 0.0;
+    int intervalsMin = 1 << 30, intervalsMax = 0;
+    for (double eta : {1.0, 1.00012, 1.01, 1.05, 1.1, 1.22, 1.3, 1.49, 1.586, 2.0, 2.6, 3.0}) {
+        Params p;
+        p.prism_reflection = f64::RP_PRISM_TIR;
+        p.ior = eta;
+        const PrismaticRetroreflector<double> node64(p);
+        auto node32 = std::make_unique<PrismaticRetroreflector<float>>(p);
+        // A copy outlives the node it was made from and reads the same series.
+        const PrismaticRetroreflector<float> copy32 = *node32;
+        node32.reset();
+        REQUIRE(node64.core_material().tir_average != nullptr);
+        REQUIRE(copy32.core_material().tir_average != nullptr);
+        const int n = int(node64.core_material().tir_average[0]);
+        intervalsMin = std::min(intervalsMin, n);
+        intervalsMax = std::max(intervalsMax, n);
+        const double eta32 = double(float(eta));
+        double largest = 0.0;
+        for (int i = 0; i <= 4000; ++i)
+            largest = std::max(largest, f64::rp_retro_fraction_averaged_exact(
+                                            f64::RP_ERA_TAN_MAX * i / 4000.0, eta, true));
+        for (int i = 0; i <= 4000; ++i) {
+            const double t = f64::RP_ERA_TAN_MAX * (i + 0.37) / 4001.0;
+            const dvec3 d = glm::normalize(dvec3(t, 0.0, -1.0));
+            const double ref = f64::rp_retro_fraction_averaged_exact(t, eta, true);
+            const double e64 = f64::rp_retro_fraction(node64.core_material(), d);
+            const glm::vec3 d32(d);
+            const double t32 = std::sqrt(double(d32.x) * d32.x) / std::abs(double(d32.z));
+            const double ref32 = f64::rp_retro_fraction_averaged_exact(t32, eta32, true);
+            const double e32 = f32::rp_retro_fraction(copy32.core_material(), d32);
+            INFO("eta " << eta << " t " << t << ": integral " << ref << ", double " << e64
+                        << ", float " << e32 << " (integral at float inputs " << ref32 << ")");
+            const double scale64 = std::max(ref, 1e-3 * largest);
+            CHECK(std::abs(e64 - ref) <= 1e-6 * scale64);
+            CHECK(std::abs(e32 - ref32) <= 1e-6 * std::max(ref32, 0.1));
+            if (scale64 > 0.0) worst64 = std::max(worst64, std::abs(e64 - ref) / scale64);
+            worst32 = std::max(worst32, std::abs(e32 - ref32) / std::max(ref32, 0.1));
+        }
+    }
+    // Only the plain averaged cube with uncoated prisms and the exact tier carries a series.
+    for (int variant = 1; variant < 4; ++variant) {
+        Params p;
+        p.prism_reflection = variant == 1 ? f64::RP_PRISM_IDEAL : f64::RP_PRISM_TIR;
+        p.fidelity = variant == 2 ? f64::RP_FIDELITY_FAST : f64::RP_FIDELITY_EXACT;
+        p.cant_angle = variant == 3 ? 10.0 : 0.0;
+        CHECK(PrismaticRetroreflector<float>(p).core_material().tir_average == nullptr);
+    }
+    std::printf("MEASURED: TIR average series (%d-%d intervals) vs its integral: double %.1e "
+                "relative, float %.1e of max(E, 0.1)\n",
+                intervalsMin, intervalsMax, worst64, worst32);
 }
 
 // ------------------------------------------------------------------------------------------

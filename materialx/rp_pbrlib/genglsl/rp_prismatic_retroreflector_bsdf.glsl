@@ -2015,7 +2015,8 @@ float rp_fdr_ext_table_at(int i) {
 //    marks the small functions of the evaluation path, which C++ always inlines (so
 //    that eval is one function whose incident state lives in registers and loses the parts it
 //    does not use), the rarely taken ones it must not inline; GLSL inlines anyway;
-//  - no templates, references, pointers, recursion, constructors of structs or std::;
+//  - no templates, references, pointers, recursion, constructors of structs or std:: (but in
+//    "cpp" regions, below);
 //  - erf, erfc and erfinv come from the including language's prelude (rp_erf, rp_erfc,
 //    rp_erfinv): std::erf in C++, a documented approximation in GLSL;
 //  - the tables of nodes/generated/prism_tables.inc are declared by the includer before
@@ -2027,7 +2028,9 @@ float rp_fdr_ext_table_at(int i) {
 //    prism_ideal, prism_tir, prism_metallized; canted: a cant_angle other than 0; dihedral: a
 //    dihedral_error other than 0; node: the node itself, kept by every variant of the node and
 //    left out of the baseline's library, which takes the guards and constants, the dielectric
-//    Fresnel factor and the shading frame from here: nodes/mrm_core.inc).
+//    Fresnel factor and the shading frame from here: nodes/mrm_core.inc; cpp: C++ only, never
+//    in GLSL: what a material prepared once on the CPU may carry, such as a pointer to tables
+//    made for it).
 //
 // Conventions (MODEL.md section 0): local frame n = +z, t = +x; wi and wo unit vectors pointing
 // away from the surface (wi toward the light, wo toward the viewer); f in 1/sr without the
@@ -2601,6 +2604,30 @@ float rp_gl8_w_at(int i) {
     // (eta in [1.05, 3], all theta_t) from 1.1e-5 with one to 5.6e-7 (tests/test_physics.cpp).
     const int RP_TIR_SUBPIECES = 4;
 
+// The azimuths where rp_azimuth_average's integrand changes form (below), sorted, with the ends
+// 0 and phiEnd: where some m_k = 2 e_k.z (d.e_k) / d.z crosses 0 or 1 and, with tir, where
+// |d.e_k| = cos theta_c, with d.e_k = (t x_k cos(phi - psi_k) - n_k) cos(theta_t).
+rp_breaks rp_azimuth_breaks(vec3 faceZ, vec3 faceXY, vec3 facePhi, float phiEnd, float t,
+                                  float eta, bool tir) {
+    vec3 a = float(2.0) * faceZ * faceZ;
+    vec3 bk = (float(2.0) * t) * faceZ * faceXY;
+    float secT = sqrt(float(1.0) + t * t);
+    float cosC = sqrt(max(float(0.0), float(1.0) - float(1.0) / (eta * eta)));
+    rp_breaks b;
+    b.phi[0] = float(0.0);
+    b.n = 1;
+    for (int k = 0; k < 3; ++k) {
+        rp_add_level_breaks(b, a[k], bk[k], facePhi[k], phiEnd);
+        rp_add_level_breaks(b, a[k] - float(1.0), bk[k], facePhi[k], phiEnd);
+        if (tir) {
+            rp_add_level_breaks(b, faceZ[k] - cosC * secT, t * faceXY[k], facePhi[k], phiEnd);
+            rp_add_level_breaks(b, faceZ[k] + cosC * secT, t * faceXY[k], facePhi[k], phiEnd);
+        }
+    }
+    rp_close_breaks(b, phiEnd);
+    return b;
+}
+
 // Azimuth averages at t = tan(theta_t) for a prism whose faces have e_k.z = faceZ,
 // |e_k.xy| = faceXY at azimuths facePhi, over [0, phiEnd]: pi for a prism mirror-symmetric about
 // the azimuth 0, pi / 3 for the paper's cube (also three-fold). x: the ERA A, times the uncoated
@@ -2618,19 +2645,7 @@ vec2 rp_azimuth_average(vec3 faceZ, vec3 faceXY, vec3 facePhi, float phiEnd, flo
     vec3 a = float(2.0) * faceZ * faceZ;
     vec3 bk = (float(2.0) * t) * faceZ * faceXY;
     float secT = sqrt(float(1.0) + t * t);
-    float cosC = sqrt(max(float(0.0), float(1.0) - float(1.0) / (eta * eta)));
-    rp_breaks b;
-    b.phi[0] = float(0.0);
-    b.n = 1;
-    for (int k = 0; k < 3; ++k) {
-        rp_add_level_breaks(b, a[k], bk[k], facePhi[k], phiEnd);
-        rp_add_level_breaks(b, a[k] - float(1.0), bk[k], facePhi[k], phiEnd);
-        if (tir) {
-            rp_add_level_breaks(b, faceZ[k] - cosC * secT, t * faceXY[k], facePhi[k], phiEnd);
-            rp_add_level_breaks(b, faceZ[k] + cosC * secT, t * faceXY[k], facePhi[k], phiEnd);
-        }
-    }
-    rp_close_breaks(b, phiEnd);
+    rp_breaks b = rp_azimuth_breaks(faceZ, faceXY, facePhi, phiEnd, t, eta, tir);
     float sumA = float(0.0);
     float sumH = float(0.0);
     for (int i = 0; i + 1 < b.n; ++i) {
@@ -2691,6 +2706,7 @@ float rp_retro_fraction_averaged_exact(float tanThetaT, float eta, bool tir) {
                               RP_PI / float(3.0), t, eta, tir, false)
         .x;
 }
+
 
 // The paper's cube's azimuth average of sum_k H_k at t = tan(theta_t) (generates its table).
 float rp_metal_hits_paper_direct(float tanThetaT) {
