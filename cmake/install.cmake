@@ -2,9 +2,10 @@
 #   include/retroprism/          the headers of the installed libraries, with the math core's
 #                                .inc files and the parameter table (a renderer compiles the core
 #                                into its own kernels through <retroprism/prism_core.h>)
-#   lib/                         libretroprism_{node,util,io,analysis}.a, position-independent
+#   lib/                         libretroprism_{node,batch,util,io,analysis}.a,
+#                                position-independent
 #   lib/cmake/retroprism/        retroprismConfig.cmake, its version file and the exported
-#                                targets retroprism::node, ::util, ::io, ::analysis
+#                                targets retroprism::node, ::batch, ::util, ::io, ::analysis
 #   lib/pkgconfig/               retroprism.pc (the node), retroprism-analysis.pc (the readers and
 #                                photometry)
 #   bin/retroprism               the command
@@ -18,7 +19,8 @@
 # installed tree may be moved.
 include(CMakePackageConfigHelpers)
 
-set(RP_INSTALLED_LIBRARIES retroprism_node retroprism_util retroprism_io retroprism_analysis)
+set(RP_INSTALLED_LIBRARIES retroprism_node retroprism_batch retroprism_util retroprism_io
+                           retroprism_analysis)
 # A renderer's plug-in (a shared library) and the Python module link these static libraries.
 set_target_properties(${RP_INSTALLED_LIBRARIES} PROPERTIES POSITION_INDEPENDENT_CODE ON)
 foreach(target ${RP_INSTALLED_LIBRARIES})

@@ -12,7 +12,8 @@ with Debian's python3 after the build tree (and, with --fresh-clone, the checkou
   prints for the same table;
 - examples/consumer (installed under share/retroprism/examples/consumer) builds against the
   prefix with CMake (find_package) and with pkg-config, and prints the command's "f"; its
-  consumer_ra (retroprism::analysis) prints the command's R_A table;
+  consumer_ra (retroprism::analysis) prints the command's R_A table; consumer_batch
+  (retroprism::batch) the float node's f within the batch kernels' rounding;
 - `import retroprism` from the prefix evaluates a batch equal, bit for bit, to the command's
   answer in double and in float;
 - with --source-path, that folder (the deleted checkout) is named in no installed binary.
@@ -127,6 +128,14 @@ def check_consumer(prefix, cli, share, work):
         if printed[0] != "f" or [float(v) for v in printed[1:]] != expected:
             fail(f"consumer built with {how} printed {printed}, retroprism eval {expected}")
     print(f"consumer (CMake and pkg-config) prints the command's f = {expected}")
+    # retroprism::batch: the float node's answer within 1e-6 relative (glibc's vector exp and
+    # erfc round differently from the scalar ones by a few ulp, 6e-8 relative each)
+    answer32 = json.loads(run([cli, "eval", "--backend", "cpp-float", os.path.join(src, "query.json")]))
+    expected32 = answer32["results"][0]["f"]
+    printed = run([os.path.join(build, "consumer_batch")]).split()
+    if printed[0] != "f" or any(abs(float(v) - e) > 1e-6 * abs(e) for v, e in zip(printed[1:], expected32)):
+        fail(f"consumer_batch printed {printed}, retroprism eval --backend cpp-float {expected32}")
+    print(f"consumer_batch (retroprism::batch) prints the float node's f = {expected32}")
     # retroprism::analysis and ::io, with their own dependencies, through the package
     material = os.path.join(share, "examples", "materials", "white_sign.json")
     table = run([os.path.join(build, "consumer_ra"), material]).split()
