@@ -17,11 +17,12 @@ int main() {
     const BatchEvaluator batch(p);
     // 1000 queries: the pair of main.cpp, then the viewer moving away from the light.
     const size_t n = 1000;
-    std::vector<float> wix(n, 0.3f), wiy(n, 0.1f), wiz(n, 0.9f), wox(n), woy(n, 0.1f),
-        woz(n, 0.9f);
-    for (size_t i = 0; i < n; ++i) wox[i] = 0.32f + 0.001f * float(i);
+    std::vector<float> wix(n, 0.3f), wiy(n, 0.1f), wiz(n, 0.9f), wox(n), woy(n, 0.1f), woz(n, 0.9f);
+    for (size_t i = 0; i < n; ++i)
+        wox[i] = 0.32f + 0.001f * float(i);
     std::vector<float> lobe[9];
-    for (auto& v : lobe) v.assign(n, 0.0f);
+    for (auto& v : lobe)
+        v.assign(n, 0.0f);
     const BatchLobes f{{lobe[0].data(), lobe[1].data(), lobe[2].data()},
                        {lobe[3].data(), lobe[4].data(), lobe[5].data()},
                        {lobe[6].data(), lobe[7].data(), lobe[8].data()}};
