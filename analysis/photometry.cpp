@@ -75,7 +75,9 @@ double ra_at_entry(const PrismaticRetroreflector<double>& node, const RaEntry& e
 
 RaTable ra_table(const Params& material, double rotationDeg, const std::vector<double>& observation,
                  const std::vector<double>& entrance) {
-    const PrismaticRetroreflector<double> node(ra_params(material));
+    // A few dozen directions: the azimuth averages integrated rather than tabulated.
+    const PrismaticRetroreflector<double> node(
+        ra_params(material), PrismaticRetroreflector<double>::Averages::Integrated);
     RaTable t;
     t.observation = observation;
     t.entrance = entrance;

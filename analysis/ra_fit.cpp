@@ -126,7 +126,9 @@ void node_search_space(Params& p, const std::vector<std::string>& held, std::vec
 } // namespace
 
 std::vector<double> ra_node_values(const Params& material, const std::vector<RaEntry>& entries) {
-    const PrismaticRetroreflector<double> node(ra_params(material));
+    // A few dozen directions: the azimuth averages integrated rather than tabulated.
+    const PrismaticRetroreflector<double> node(
+        ra_params(material), PrismaticRetroreflector<double>::Averages::Integrated);
     std::vector<double> v;
     for (const RaEntry& e : entries)
         v.push_back(ra_at_entry(node, e));

@@ -83,7 +83,8 @@ struct Prepared {
     typename A::material m;
     std::shared_ptr<const std::vector<typename A::real>> series; // m's, as the node attaches it
     std::vector<typename A::vec3> wi, wo, u;
-    explicit Prepared(const Params& p) : m(A::prepare(sanitize(p))), series(attach_tir_average(m)) {
+    explicit Prepared(const Params& p)
+        : m(A::prepare(sanitize(p))), series(attach_azimuth_series(m)) {
         using real = typename A::real;
         std::uint64_t state = 99;
         auto uniform = [&]() {

@@ -273,9 +273,9 @@ V from_array(const Vec3d& a) {
 } // namespace
 
 template <class Real>
-PrismaticRetroreflector<Real>::PrismaticRetroreflector(const Params& params)
+PrismaticRetroreflector<Real>::PrismaticRetroreflector(const Params& params, Averages averages)
     : params_(sanitize(params)), m_(round_material<Real>(prepare_material(params_))) {
-    tirAverage_ = attach_tir_average(m_);
+    if (averages == Averages::Tabulated) azimuthSeries_ = attach_azimuth_series(m_);
     n_ = from_array<vec3>(params_.normal);
     t_ = from_array<vec3>(params_.tangent);
     b_ = glm::cross(n_, t_);

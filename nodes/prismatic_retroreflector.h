@@ -27,6 +27,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <memory>
 #include <optional>
 #include <string>
@@ -146,34 +147,64 @@ double metal_hits_averaged_direct(double tanThetaT);
 // 2e6 azimuths over one period (slow, ~0.1 s; an independent reference for tests).
 double retro_fraction_tir_averaged_direct(double tanThetaT, double eta);
 
-// The exact tier's azimuth average of E for uncoated prisms at ior eta over t = tan(theta_t) in
-// [0, sqrt2], as the piecewise Chebyshev series that rp_material::tir_average points to (layout:
-// rp_tir_average_series, prism_core.inc), interpolating rp_retro_fraction_averaged_exact at the
-// points between each interval's nodes to within 1e-9 of the interval's largest value or 1e-12
-// of E's largest, whichever is more (nodes/tir_average.cpp). The node makes it once per
-// material with uncoated prisms, the averaged ERA, the exact tier and no cant (a few ms).
-struct TirAverageSeries {
+// An azimuth average of a prism's retroreflection (rp_azimuth_average, prism_core.inc): the
+// faces and range of rp_average_faces, the ior, whether faces are uncoated (tir) and whether the
+// metallised prisms' face hits are averaged too (hits), over t = tan(theta_t) in [0, t_end].
+struct AzimuthAverage {
+    glm::dvec3 face_z{0.0}, face_xy{0.0}, face_phi{0.0};
+    double phi_end = 0.0;
+    double eta = 1.0;
+    double t_end = 0.0;
+    bool tir = false;
+    bool hits = false;
+};
+// That average as the piecewise Chebyshev series rp_material::azimuth_series points to (layout:
+// rp_azimuth_series, prism_core.inc), interpolating rp_azimuth_average at the points between
+// each interval's nodes to within 1e-8 of the interval's largest value or 1e-11 of the
+// function's largest, whichever is more (nodes/azimuth_series.cpp; a few ms to make).
+struct AzimuthSeries {
     std::vector<double> data;
     // The largest error at the check points in units of the tolerance (above 1 only where an
     // interval reached the narrowest width allowed).
     double max_check_error = 0.0;
 };
-TirAverageSeries tir_average_series(double eta);
+AzimuthSeries azimuth_series(const AzimuthAverage& average);
 
-// Points m.tir_average at the series of m's eta when m has uncoated prisms, the averaged ERA,
-// the exact tier and no cant, as the node does for its own material (any precision or generated
-// variant of the core); returns the series, null when m does not use it. It must outlive every
-// use of m.
+// The indices of refraction below which canted prisms keep integrating: t_end = 1 / sqrt(eta^2
+// - 1), the largest tan(theta_t) of light refracted from outside, grows without bound as eta
+// approaches 1 (3.1 at 1.05).
+constexpr double kSeriesMinEtaCanted = 1.05;
+
+// Points m.azimuth_series at the series of m's azimuth averages where the core would integrate
+// them at every evaluation: the averaged ERA with canted prisms (ior at least
+// kSeriesMinEtaCanted), or the paper's cube with uncoated prisms in the exact tier; as the node
+// does for its own material (any precision or generated variant of the core). Returns the
+// series, null when m does not use one; it must outlive every use of m.
 template <class Material>
-auto attach_tir_average(Material& m) {
+auto attach_azimuth_series(Material& m) {
     using R = std::remove_cv_t<decltype(m.eta)>;
     std::shared_ptr<const std::vector<R>> series;
-    if (m.prism_reflection == f64::RP_PRISM_TIR && m.fidelity == f64::RP_FIDELITY_EXACT &&
-        m.era_mode == f64::RP_ERA_AVERAGED && m.canted == 0) {
-        const std::vector<double> s = tir_average_series(double(m.eta)).data;
-        series = std::make_shared<const std::vector<R>>(s.begin(), s.end());
-        m.tir_average = series->data();
+    if (m.era_mode != f64::RP_ERA_AVERAGED) return series;
+    AzimuthAverage a;
+    a.eta = double(m.eta);
+    a.tir = m.prism_reflection == f64::RP_PRISM_TIR;
+    a.hits = m.prism_reflection == f64::RP_PRISM_METALLIZED;
+    if (m.canted != 0 && a.eta >= kSeriesMinEtaCanted) {
+        a.t_end = 1.0 / std::sqrt((a.eta - 1.0) * (a.eta + 1.0));
+    } else if (m.canted == 0 && a.tir && m.fidelity == f64::RP_FIDELITY_EXACT) {
+        a.t_end = f64::RP_ERA_TAN_MAX;
+    } else {
+        return series;
     }
+    f64::rp_material faces{};
+    faces.canted = m.canted;
+    faces.face_z = glm::dvec3(m.face_z);
+    faces.face_xy = glm::dvec3(m.face_xy);
+    faces.face_phi = glm::dvec3(m.face_phi);
+    f64::rp_average_faces(faces, a.face_z, a.face_xy, a.face_phi, a.phi_end);
+    const std::vector<double> s = azimuth_series(a).data;
+    series = std::make_shared<const std::vector<R>>(s.begin(), s.end());
+    m.azimuth_series = series->data();
     return series;
 }
 
@@ -207,8 +238,16 @@ class PrismaticRetroreflector {
         vec3 total() const { return surface + retro + diffuse; }
     };
 
+    // How the node evaluates the azimuth averages the core would integrate at every evaluation
+    // (canted prisms; uncoated prisms in the exact tier): Tabulated makes their series once
+    // (attach_azimuth_series: 1-50 ms) for evaluations of ~100 ns; Integrated integrates at each
+    // evaluation (0.3-5 us), for a node evaluated at a few hundred directions or fewer, such as
+    // an R_A table's. Their values agree within 1e-6 relative.
+    enum class Averages { Tabulated, Integrated };
+
     // Prepares the per-shading-point constants (sanitised parameters, F_dr, frame).
-    explicit PrismaticRetroreflector(const Params& params = Params());
+    explicit PrismaticRetroreflector(const Params& params = Params(),
+                                     Averages averages = Averages::Tabulated);
 
     Eval eval(const vec3& wi, const vec3& wo) const;
     // f alone: eval() without the pdf, cheaper (no mixture weights), for light loops that do not
@@ -225,6 +264,8 @@ class PrismaticRetroreflector {
     // Retroreflected fraction E and ERA A (geometry alone) of the mean refracted direction.
     Real retro_fraction(const vec3& wi) const;
 
+    // The core's material; it may point to series the node owns (azimuth_series), so a copy is
+    // valid while the node, or a copy of the node, lives.
     const material& core_material() const { return m_; }
     const Params& params() const { return params_; }
     // World (parameter frame) to local shading frame; returns false for a zero, tiny,
@@ -236,8 +277,8 @@ class PrismaticRetroreflector {
     Params params_;
     material m_;
     vec3 n_, t_, b_;
-    // The series m_.tir_average points to (shared by copies), or null.
-    std::shared_ptr<const std::vector<Real>> tirAverage_;
+    // The series m_.azimuth_series points to (shared by copies), or null.
+    std::shared_ptr<const std::vector<Real>> azimuthSeries_;
 };
 
 extern template class PrismaticRetroreflector<float>;

@@ -2729,6 +2729,24 @@ float rp_metal_hits_paper(float tanThetaT) {
 // substrate (passed: 1 - E, or what metallized prisms pass on) for the mean refracted direction d,
 // sin(theta_t) = |d.xy|, in the node's ERA mode. The averaged mode reads the paper's cube's
 // tables where they serve and calls rp_azimuth_average (once) for the rest.
+// The faces (e_k.z, |e_k.xy|, azimuths) and the azimuth range whose average rp_retro_passed_s
+// integrates (rp_azimuth_average): the paper's cube over a sixth of a turn, a canted one over
+// half a turn (mirror-symmetric about the azimuth 0).
+void rp_average_faces(in rp_material m, out vec3 faceZ, out vec3 faceXY,
+                            out vec3 facePhi, out float phiEnd) {
+    float third = float(2.0) * RP_PI / float(3.0);
+    faceZ = vec3(RP_INV_SQRT3);
+    faceXY = vec3(RP_SQRT2_3);
+    facePhi = vec3(float(0.0), third, -third);
+    phiEnd = RP_PI / float(3.0);
+    if (m.canted != 0) {
+        faceZ = m.face_z;
+        faceXY = m.face_xy;
+        facePhi = m.face_phi;
+        phiEnd = RP_PI;
+    }
+}
+
 void rp_retro_passed_s(in rp_material m, vec3 d, float sinThetaT, out float era,
                                  out float passed) {
     era = float(0.0);
@@ -2783,17 +2801,11 @@ void rp_retro_passed_s(in rp_material m, vec3 d, float sinThetaT, out float era,
         if (integrate) {
             // One call whatever the faces, so that a shader holds one copy of the integrator per
             // direction it evaluates.
-            float third = float(2.0) * RP_PI / float(3.0);
-            vec3 faceZ = vec3(RP_INV_SQRT3);
-            vec3 faceXY = vec3(RP_SQRT2_3);
-            vec3 facePhi = vec3(float(0.0), third, -third);
-            float phiEnd = RP_PI / float(3.0);
-            if (canted) {
-                faceZ = m.face_z;
-                faceXY = m.face_xy;
-                facePhi = m.face_phi;
-                phiEnd = RP_PI;
-            }
+            vec3 faceZ;
+            vec3 faceXY;
+            vec3 facePhi;
+            float phiEnd;
+            rp_average_faces(m, faceZ, faceXY, facePhi, phiEnd);
             vec2 avg = rp_azimuth_average(faceZ, faceXY, facePhi, phiEnd, t, m.eta, tir, metal);
             area = avg.x;
             hits = avg.y;
