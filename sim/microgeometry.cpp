@@ -138,9 +138,11 @@ double next_height(const dvec3& w, double h, double alpha, Rng& rng) {
     double c;
     if (w.z > 0) {
         const double e = 1.0 / lambda, x = 1.0 - u;
-        // pow's value when it underflows (x <= 1/2 and e >= 1075: q <= 2^-1075 rounds to 0),
-        // without its slow underflow path: the ray leaves (c1 >= 0 = q).
-        if (x <= 0.5 && e >= 1075.0) return kInf;
+        // pow's value when it underflows, without its slow underflow path: log x <= x - 1, so
+        // q <= exp(-e (1 - x)), below 2^-1075 (rounds to 0) when e (1 - x) >= 746 (the bound
+        // 745.13 and a margin for the rounding of the product), or when x <= 1/2 and e >= 1075: the
+        // ray leaves (c1 >= 0 = q).
+        if (e * (1.0 - x) >= 746.0 || (x <= 0.5 && e >= 1075.0)) return kInf;
         const double q = std::pow(x, e);
         if (q <= c1) return kInf;
         c = c1 / q;
