@@ -12,7 +12,6 @@
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
-#include <limits>
 #include <mutex>
 #include <thread>
 
@@ -28,7 +27,6 @@ constexpr double kSqrt2Over3 = 0.81649658092772603273;
 constexpr double kInvSqrt3 = 0.57735026918962576451;
 constexpr double kInvSqrt2 = 0.70710678118654752440;
 constexpr double kSin120 = 0.86602540378443864676;
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // Angle between unit vectors, accurate near 0 and pi.
 double angle_between(const dvec3& a, const dvec3& b) {
@@ -113,45 +111,44 @@ double walk_lambda(const dvec3& w, double alpha) {
     return w.z > 0 ? l : -1.0 - l;
 }
 
-// Heights of the microsurface: uniform in [-1, 1] (any height distribution gives the same
-// Smith microsurface; Heitz et al. 2016, section 4.1).
-double height_cdf(double h) {
-    return std::clamp(0.5 * (h + 1.0), 0.0, 1.0);
-}
-double height_inverse(double c) {
-    return std::clamp(2.0 * c - 1.0, -1.0, 1.0);
-}
+// Heights of the microsurface, and the next intersection of a ray of direction w (Heitz et al.
+// 2016, Algorithm 2): with C1 = C(h) the height's CDF and Lambda = Lambda(w), an upward ray leaves
+// the microsurface with probability G1 = C1^Lambda, else it hits at the height of CDF C1 / q,
+// q = (1 - u)^(1 / Lambda) <= C1 uniform u; a downward ray (Lambda <= -1) always hits, at the
+// height of CDF C1 (1 - u)^(-1 / Lambda). Any height distribution gives the same Smith
+// microsurface (section 4.1), and the walk needs the heights only through their CDF: it keeps the
+// depth l = -log C(h) >= 0 (0 above every point), in which, with E = -log(1 - u) a standard
+// exponential variate (the ziggurat of sim/variates.h, no logarithm or power), the upward ray
+// leaves when E >= Lambda l, else goes up to l - E / Lambda, and the downward ray goes down to
+// l + E / -Lambda. The walk from inside the sheet is the mirror image (heights -h): its depth is
+// -log(1 - C(h)) = -log(-expm1(-l)) of the depth l from outside (a symmetric distribution of
+// heights), converted when the ray changes sides and the next step needs it.
+struct Depth {
+    double l = 0.0;      // -log C of the height, seen from side `outside`
+    bool outside = true; // the side whose heights l measures
+};
 
-// Height of the next intersection of a ray of direction w from height h above the mean
-// surface, or +inf when it leaves the microsurface (Heitz et al. 2016, Algorithm 2). With
-// C1 = cdf(h) and G1 = C1^Lambda the probability of leaving upward, the ray leaves when
-// u >= 1 - G1, i.e. when q = (1 - u)^(1 / Lambda) <= C1, and else hits at cdf^-1(C1 / q): one
-// pow for both. Downward, Lambda <= -1 and it always hits at cdf^-1(C1 (1 - u)^(-1 / Lambda))
-// (for Lambda = -1, the common case of a direction steeper than the microsurface's slopes,
-// C1 (1 - u) exactly). u is drawn only when the outcome is random: an upward ray with
-// Lambda = 0 (steeper than every microfacet) always leaves, a grazing one hits at once.
-double next_height(const dvec3& w, double h, double alpha, Rng& rng) {
-    if (std::abs(w.z) < 1e-12) return h; // grazing: hits at once
+// The next step of a ray of direction w (in the frame of its side: w.z > 0 away from its medium)
+// from depth d on side `outside`: true when it leaves the microsurface, else d is the depth of
+// the intersection. An upward ray with Lambda = 0 (steeper than every microfacet) always leaves,
+// a grazing one hits at once; E is drawn only when the outcome is random.
+bool next_depth(const dvec3& w, bool outside, double alpha, Depth& d, Rng& rng) {
+    if (std::abs(w.z) < 1e-12) return false; // grazing: hits at once
     const double lambda = walk_lambda(w, alpha);
-    if (w.z > 0 && !(lambda > 0)) return kInf;
-    const double c1 = height_cdf(h), u = rng.uniform();
-    double c;
-    if (w.z > 0) {
-        const double e = 1.0 / lambda, x = 1.0 - u;
-        // pow's value when it underflows, without its slow underflow path: log x <= x - 1, so
-        // q <= exp(-e (1 - x)), below 2^-1075 (rounds to 0) when e (1 - x) >= 746 (the bound
-        // 745.13 and a margin for the rounding of the product), or when x <= 1/2 and e >= 1075: the
-        // ray leaves (c1 >= 0 = q).
-        if (e * (1.0 - x) >= 746.0 || (x <= 0.5 && e >= 1075.0)) return kInf;
-        const double q = std::pow(x, e);
-        if (q <= c1) return kInf;
-        c = c1 / q;
-    } else if (lambda == -1.0) {
-        c = c1 * (1.0 - u);
-    } else {
-        c = c1 * std::pow(1.0 - u, -1.0 / lambda); // lambda <= -1: always hits
+    if (w.z > 0 && !(lambda > 0)) return true;
+    const double e = exponential_variate(rng);
+    if (d.outside != outside) {
+        d.l = -std::log(-std::expm1(-d.l));
+        d.outside = outside;
     }
-    return height_inverse(c);
+    if (w.z > 0) {
+        if (e >= lambda * d.l) return true;
+        d.l = std::max(0.0, d.l - e / lambda);
+    } else {
+        d.l += lambda == -1.0 ? e : e / -lambda; // for Lambda = -1 (a direction steeper than
+                                                 // the microsurface's slopes) without division
+    }
+    return false;
 }
 
 // Refraction of wIn (pointing away from the surface on the incident side, wIn.m = c > 0) at
@@ -261,17 +258,15 @@ Crossing cross_top_surface(const Sheet& sheet, const dvec3& dir, bool from_outsi
     Crossing out;
     dvec3 w = dir;
     bool outside = from_outside;
-    double h = outside ? 2.0 : -2.0; // above / below every point of the microsurface
+    Depth depth; // above (outside) / below (inside) every point of the microsurface
+    depth.outside = outside;
     for (int order = 0; order <= kMaxWalkOrder; ++order) {
-        const double hn =
-            outside ? next_height(w, h, sheet.alpha, rng) : -next_height(-w, -h, sheet.alpha, rng);
-        if (!std::isfinite(hn)) {
+        if (next_depth(outside ? w : -w, outside, sheet.alpha, depth, rng)) {
             out.dir = w;
             out.outside = outside;
             out.order = order;
             return out;
         }
-        h = hn;
         if (order == kMaxWalkOrder) break;
         // Scattering at a visible microfacet: normal seen from wIn on this side.
         const dvec3 wIn = -w;
