@@ -167,8 +167,9 @@ namespace {
 double disk_point(Rng& rng, double& x, double& y) {
     double r2;
     do {
-        x = 2.0 * rng.uniform() - 1.0;
-        y = 2.0 * rng.uniform() - 1.0;
+        const UniformPair p = uniform_pair(rng);
+        x = 2.0 * p.u - 1.0;
+        y = 2.0 * p.v - 1.0;
         r2 = x * x + y * y;
     } while (!(r2 < 1.0));
     return r2;
@@ -210,10 +211,10 @@ void sixth_turn(double u, double& c, double& s) {
 }
 
 // Slope x of a visible normal of the standard Beckmann surface seen from above the mean plane
-// (cosT > 0, sinT > 0), density p(x) proportional to exp(-x^2) (cosT - x sinT)_+, sampled
-// exactly by rejection from the mixture q(x) = cosT exp(-x^2) (all x) + sinT |x| exp(-x^2)
-// (x < 0 only), of masses cosT sqrt(pi) and sinT / 2: for x < 0, q = p; for x > 0,
-// p / q = (1 - x tanT)_+. The Gaussian component draws from `gauss` (an iid stream of
+// (cosT > 0, sinT > 0; any common positive factor of the two), density p(x) proportional to
+// exp(-x^2) (cosT - x sinT)_+, sampled exactly by rejection from the mixture q(x) = cosT exp(-x^2)
+// (all x) + sinT |x| exp(-x^2) (x < 0 only), of masses cosT sqrt(pi) and sinT / 2: for x < 0, q =
+// p; for x > 0, p / q = (1 - x tanT)_+. The Gaussian component draws from `gauss` (an iid stream of
 // N(0, 1/2)), the other is -sqrt(E), E exponential (P(|x| > t) = exp(-t^2)). Acceptance is
 // mass(p) / mass(q): 1 at normal and grazing views, 0.865 at worst (62.7 degrees); no exp or
 // erfc is evaluated.
@@ -222,32 +223,41 @@ double visible_slope_x_above(double cosT, double sinT, Rng& rng, Gauss& gauss) {
     const double wGauss = cosT * kSqrtPi;
     const double pGauss = wGauss / (wGauss + 0.5 * sinT);
     for (;;) {
-        if (rng.uniform() >= pGauss) return -std::sqrt(exponential_variate(rng));
+        const UniformPair p = uniform_pair(rng); // the component, the acceptance
+        if (p.u >= pGauss) return -std::sqrt(exponential_variate(rng));
         const double x = gauss();
         if (x <= 0) return x;
-        if (rng.uniform() * cosT < cosT - x * sinT) return x;
+        if (p.v * cosT < cosT - x * sinT) return x;
     }
 }
 
 } // namespace
 
 dvec3 sample_visible_normal(const dvec3& w, double alpha, Rng& rng) {
-    const dvec3 ws = glm::normalize(dvec3(alpha * w.x, alpha * w.y, w.z));
-    const double sinT = std::sqrt(ws.x * ws.x + ws.y * ws.y);
+    // The view of the standard surface (the stretched w): azimuth that of w, polar angle theta
+    // with (cos, sin) proportional to (w.z, alpha |w.xy|), left unnormalised where only their
+    // ratio matters (the sampling from above, the test for a view along the normal).
+    const double rxy = std::sqrt(w.x * w.x + w.y * w.y);
+    const double cosS = w.z, sinS = alpha * rxy;
     // Slope y (and x at normal view): Gaussians of density exp(-s^2) / sqrt(pi) (variance 1/2).
     auto gauss = [&]() { return kInvSqrt2 * normal_variate(rng); };
     const double sy = gauss();
     double sx;
     double cosPhi = 1.0, sinPhi = 0.0;
-    if (sinT < 1e-12) {
+    if (sinS * sinS < 1e-24 * (cosS * cosS + sinS * sinS)) { // sin(theta) < 1e-12
         sx = gauss();
     } else {
         // Views from above by rejection; from below (the random walk's masked rays) by the
         // inversion of the CDF.
-        sx = ws.z > 0 ? visible_slope_x_above(ws.z, sinT, rng, gauss)
-                      : visible_slope_x(ws.z, sinT, rng.uniform_open());
-        cosPhi = ws.x / sinT;
-        sinPhi = ws.y / sinT;
+        if (cosS > 0) {
+            sx = visible_slope_x_above(cosS, sinS, rng, gauss);
+        } else {
+            const double n = 1.0 / std::sqrt(cosS * cosS + sinS * sinS);
+            sx = visible_slope_x(cosS * n, sinS * n, rng.uniform_open());
+        }
+        const double inv = 1.0 / rxy;
+        cosPhi = w.x * inv;
+        sinPhi = w.y * inv;
     }
     const double tx = alpha * (cosPhi * sx - sinPhi * sy);
     const double ty = alpha * (sinPhi * sx + cosPhi * sy);
@@ -297,6 +307,7 @@ PrismOutcome trace_prism(const Sheet& sheet, const dvec3& d, Rng& rng, dvec3* ex
     // b_k = d.e_k, e_k = (sqrt(2/3) v_k, 1/sqrt3), v_k the vertex directions at psi + 120 k
     // degrees, psi the orientation of vertex 0.
     double b[3];
+    double roulette = -1.0; // the uniform of the faces' Russian roulette when drawn in advance
     if (sheet.era_mode == f64::RP_ERA_AVERAGED && sheet.cant_deg == 0.0 &&
         sheet.dihedral_arcmin == 0.0 && sheet.dihedral_spread_arcmin == 0.0) {
         // psi uniform: v_k.d = r cos(chi + 120 k degrees) with chi = psi - azimuth(d) uniform,
@@ -305,7 +316,9 @@ PrismOutcome trace_prism(const Sheet& sheet, const dvec3& d, Rng& rng, dvec3* ex
         // prism onto itself with its faces permuted, under which the uniform entry point and
         // the trace below are symmetric).
         double cosChi, sinChi;
-        sixth_turn(rng.uniform(), cosChi, sinChi);
+        const UniformPair turn = uniform_pair(rng); // the turn, the faces' roulette
+        sixth_turn(turn.u, cosChi, sinChi);
+        roulette = turn.v;
         const double r = kSqrt2Over3 * std::sqrt(d.x * d.x + d.y * d.y), z = kInvSqrt3 * d.z;
         const double along = -0.5 * r * cosChi, across = kSin120 * r * sinChi;
         b[0] = r * cosChi + z;
@@ -378,12 +391,13 @@ PrismOutcome trace_prism(const Sheet& sheet, const dvec3& d, Rng& rng, dvec3* ex
                 if ((1.0 - c * c) * sheet.eta * sheet.eta < 1.0)
                     keep *= f64::rp_fresnel_internal(c, sheet.eta);
             }
-            if (keep < 1.0 && rng.uniform() >= keep) return kPrismTransmitted;
+            if (keep < 1.0 && (roulette >= 0 ? roulette : rng.uniform()) >= keep)
+                return kPrismTransmitted;
         } else if (sheet.prism_reflection == f64::RP_PRISM_METALLIZED) {
             double keep = sheet.metal_reflectance;
             for (int k = 1; k < reflections; ++k)
                 keep *= sheet.metal_reflectance;
-            if (rng.uniform() >= keep) return kPrismAbsorbed;
+            if ((roulette >= 0 ? roulette : rng.uniform()) >= keep) return kPrismAbsorbed;
         }
     }
     if (reflections != 3) return kPrismMiss;
