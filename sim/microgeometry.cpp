@@ -419,7 +419,9 @@ const char* channel_name(int channel) {
     return channel >= 0 && channel < kChannels ? names[channel] : "?";
 }
 
-Path trace_path(const Sheet& sheet, const dvec3& wi, Rng& rng) {
+// Flattened: the walk, the prism trace and the variates inlined into the path's loop (identical
+// results, fewer instructions per ray: no calls and register spills per event).
+[[gnu::flatten]] Path trace_path(const Sheet& sheet, const dvec3& wi, Rng& rng) {
     Path p;
     const Crossing in = cross_top_surface(sheet, -wi, true, rng);
     if (in.trapped) return p;
