@@ -736,6 +736,35 @@ dvec3 sample_cone(const dvec3& c, const dvec3& e1, const dvec3& e2, double r, Rn
     }
 }
 
+// One path in a tally: its fate and counters and, for an exit, its cell in each grid (flattened:
+// the grids' lookups inlined).
+[[gnu::flatten]] void tally_path(const Path& p, const std::vector<Grid>& grids, Tally& t) {
+    ++t.fates[size_t(p.fate)];
+    t.substrate_hits += std::uint64_t(p.substrate_hits);
+    t.face_transmissions += std::uint64_t(p.face_transmissions);
+    t.internal_reflections += std::uint64_t(p.internal_reflections);
+    int channel = -1;
+    bool single = false;
+    if (p.fate == kFateSurface) {
+        channel = kSurface;
+        single = p.surface_order == 1;
+        if (single) ++t.surface_single;
+    } else if (p.fate == kFateRetro) {
+        channel = kRetro;
+        if (p.retroreflections == 1 && p.internal_reflections == 0) ++t.retro_primary;
+        if (p.retroreflections > 1) ++t.retro_multiple;
+    } else if (p.fate == kFateDiffuse) {
+        channel = kDiffuse;
+    }
+    if (channel < 0) return;
+    for (size_t g = 0; g < grids.size(); ++g) {
+        const int cell = grids[g].cell_of(p.wo);
+        if (cell < 0) continue;
+        t.counts[g][size_t(cell) * kChannels + size_t(channel)] += 1;
+        if (single) t.counts[g][size_t(cell) * kChannels + kSurfaceSingle] += 1;
+    }
+}
+
 } // namespace
 
 void Tally::add(const Tally& o) {
@@ -784,31 +813,7 @@ Run simulate(const Sheet& sheet, const dvec3& wiIn, const std::vector<Grid>& gri
             for (std::uint64_t r = 0; r < n; ++r) {
                 dvec3 w = wi;
                 if (opt.incidence_cone > 0) w = sample_cone(wi, e1, e2, opt.incidence_cone, rng);
-                const Path p = trace_path(sheet, w, rng);
-                ++t.fates[size_t(p.fate)];
-                t.substrate_hits += std::uint64_t(p.substrate_hits);
-                t.face_transmissions += std::uint64_t(p.face_transmissions);
-                t.internal_reflections += std::uint64_t(p.internal_reflections);
-                int channel = -1;
-                bool single = false;
-                if (p.fate == kFateSurface) {
-                    channel = kSurface;
-                    single = p.surface_order == 1;
-                    if (single) ++t.surface_single;
-                } else if (p.fate == kFateRetro) {
-                    channel = kRetro;
-                    if (p.retroreflections == 1 && p.internal_reflections == 0) ++t.retro_primary;
-                    if (p.retroreflections > 1) ++t.retro_multiple;
-                } else if (p.fate == kFateDiffuse) {
-                    channel = kDiffuse;
-                }
-                if (channel < 0) continue;
-                for (size_t g = 0; g < grids.size(); ++g) {
-                    const int cell = grids[g].cell_of(p.wo);
-                    if (cell < 0) continue;
-                    t.counts[g][size_t(cell) * kChannels + size_t(channel)] += 1;
-                    if (single) t.counts[g][size_t(cell) * kChannels + kSurfaceSingle] += 1;
-                }
+                tally_path(trace_path(sheet, w, rng), grids, t);
             }
             t.rays += n;
             if (done.fetch_add(n) + n == opt.rays) {
