@@ -226,8 +226,8 @@ double visible_slope_x_above(double cosT, double sinT, Rng& rng, Gauss& gauss) {
         const UniformPair p = uniform_pair(rng); // the component, the acceptance
         if (p.u >= pGauss) return -std::sqrt(exponential_variate(rng));
         const double x = gauss();
-        if (x <= 0) return x;
-        if (p.v * cosT < cosT - x * sinT) return x;
+        // Accepted when x <= 0 or by the ratio p / q: one branch, taken mostly.
+        if ((x <= 0) | (p.v * cosT < cosT - x * sinT)) return x;
     }
 }
 
@@ -358,9 +358,11 @@ PrismOutcome trace_prism(const Sheet& sheet, const dvec3& d, Rng& rng, dvec3* ex
     // Uniform entry point on the aperture, in the coordinates a_k = x.e_k (the solid is
     // a_k >= 0, a1 + a2 + a3 <= 1; the aperture a1 + a2 + a3 = 1).
     const double u = rng.uniform(), v = rng.uniform();
-    const bool fold = u + v > 1.0;
-    a[0] = fold ? 1.0 - u : u;
-    a[1] = fold ? 1.0 - v : v;
+    // Folded into the triangle when u + v > 1, without a branch on the random point: u + (1 - 2u)
+    // is 1 - u exactly (u a multiple of 2^-53 in [0, 1)).
+    const double fold = double(u + v > 1.0);
+    a[0] = u + fold * (1.0 - 2.0 * u);
+    a[1] = v + fold * (1.0 - 2.0 * v);
     a[2] = std::max(0.0, 1.0 - a[0] - a[1]);
     // The faces are the coordinate planes of the orthonormal frame e_k, and a reflection on face
     // k only flips b_k: unfolded, the path is the straight line a + t b, its point in the solid
@@ -369,36 +371,41 @@ PrismOutcome trace_prism(const Sheet& sheet, const dvec3& d, Rng& rng, dvec3* ex
     // k is hit (once, at cosine -b_k) iff b_k < 0 and S(t_k) < 1 at t_k = a_k / -b_k: the
     // faces hit and their cosines follow without tracing them in order.
     int reflections = 0;
-    double cosHit[3];
+    bool hit[3];
     // Multiplied by -b_k > 0, S(t_k) < 1 reads sum_j |a_j (-b_k) + a_k b_j| < -b_k (term k is
     // 0): no division, and no branch on the random entry point.
     for (int k = 0; k < 3; ++k) {
         const int i = k == 2 ? 0 : k + 1, j = k == 0 ? 2 : k - 1;
         const double sAt =
             std::abs(a[k] * b[i] - a[i] * b[k]) + std::abs(a[k] * b[j] - a[j] * b[k]);
-        cosHit[reflections] = -b[k];
-        reflections += int(b[k] < 0 && sAt < -b[k]);
+        hit[k] = (b[k] < 0) & (sAt < -b[k]);
+        reflections += int(hit[k]);
     }
     // Each hit reflects independently with its probability (tir: the internal Fresnel
     // reflectance at its cosine; metallized: metal_reflectance), so the ray survives its hits
     // with the product of those probabilities: one Russian roulette on the product.
-    if (reflections > 0) {
-        if (sheet.prism_reflection == f64::RP_PRISM_TIR) {
+    if (sheet.prism_reflection == f64::RP_PRISM_TIR) {
+        // The hits below the critical angle ((1 - c^2) eta^2 < 1; above it total internal
+        // reflection, reflectance 1): found without a branch per face, then one branch (on the
+        // way down, rarely taken) to their Fresnel terms.
+        bool partial[3];
+        bool any = false;
+        for (int k = 0; k < 3; ++k) {
+            partial[k] = hit[k] & ((1.0 - b[k] * b[k]) * sheet.eta * sheet.eta < 1.0);
+            any |= partial[k];
+        }
+        if (any) {
             double keep = 1.0;
-            for (int k = 0; k < reflections; ++k) {
-                const double c = cosHit[k];
-                // Total internal reflection (reflectance 1) without the Fresnel terms.
-                if ((1.0 - c * c) * sheet.eta * sheet.eta < 1.0)
-                    keep *= f64::rp_fresnel_internal(c, sheet.eta);
-            }
+            for (int k = 0; k < 3; ++k)
+                if (partial[k]) keep *= f64::rp_fresnel_internal(-b[k], sheet.eta);
             if (keep < 1.0 && (roulette >= 0 ? roulette : rng.uniform()) >= keep)
                 return kPrismTransmitted;
-        } else if (sheet.prism_reflection == f64::RP_PRISM_METALLIZED) {
-            double keep = sheet.metal_reflectance;
-            for (int k = 1; k < reflections; ++k)
-                keep *= sheet.metal_reflectance;
-            if ((roulette >= 0 ? roulette : rng.uniform()) >= keep) return kPrismAbsorbed;
         }
+    } else if (sheet.prism_reflection == f64::RP_PRISM_METALLIZED && reflections > 0) {
+        double keep = sheet.metal_reflectance;
+        for (int k = 1; k < reflections; ++k)
+            keep *= sheet.metal_reflectance;
+        if ((roulette >= 0 ? roulette : rng.uniform()) >= keep) return kPrismAbsorbed;
     }
     if (reflections != 3) return kPrismMiss;
     if (exit) *exit = -d;
