@@ -1,5 +1,6 @@
 // variates.h: the simulator's random variates and its Smith Lambda, cheap enough for its inner
 // loops (sim/microgeometry.cpp), each drawing from the one RNG (util/rng.h):
+//  - pairs of 32-bit uniform variates from one 64-bit draw, for decisions and positions;
 //  - standard normal and exponential variates by the ziggurat method (Marsaglia & Tsang 2000,
 //    "The ziggurat method for generating random variables", J. Stat. Softw. 5(8)), 256 layers,
 //    the layer index from the low 8 bits of a 64-bit draw and the abscissa from its high 53
