@@ -12,7 +12,6 @@
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
-#include <limits>
 #include <mutex>
 #include <thread>
 
@@ -28,7 +27,6 @@ constexpr double kSqrt2Over3 = 0.81649658092772603273;
 constexpr double kInvSqrt3 = 0.57735026918962576451;
 constexpr double kInvSqrt2 = 0.70710678118654752440;
 constexpr double kSin120 = 0.86602540378443864676;
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // Angle between unit vectors, accurate near 0 and pi.
 double angle_between(const dvec3& a, const dvec3& b) {
@@ -113,43 +111,44 @@ double walk_lambda(const dvec3& w, double alpha) {
     return w.z > 0 ? l : -1.0 - l;
 }
 
-// Heights of the microsurface: uniform in [-1, 1] (any height distribution gives the same
-// Smith microsurface; Heitz et al. 2016, section 4.1).
-double height_cdf(double h) {
-    return std::clamp(0.5 * (h + 1.0), 0.0, 1.0);
-}
-double height_inverse(double c) {
-    return std::clamp(2.0 * c - 1.0, -1.0, 1.0);
-}
+// Heights of the microsurface, and the next intersection of a ray of direction w (Heitz et al.
+// 2016, Algorithm 2): with C1 = C(h) the height's CDF and Lambda = Lambda(w), an upward ray leaves
+// the microsurface with probability G1 = C1^Lambda, else it hits at the height of CDF C1 / q,
+// q = (1 - u)^(1 / Lambda) <= C1 uniform u; a downward ray (Lambda <= -1) always hits, at the
+// height of CDF C1 (1 - u)^(-1 / Lambda). Any height distribution gives the same Smith
+// microsurface (section 4.1), and the walk needs the heights only through their CDF: it keeps the
+// depth l = -log C(h) >= 0 (0 above every point), in which, with E = -log(1 - u) a standard
+// exponential variate (the ziggurat of sim/variates.h, no logarithm or power), the upward ray
+// leaves when E >= Lambda l, else goes up to l - E / Lambda, and the downward ray goes down to
+// l + E / -Lambda. The walk from inside the sheet is the mirror image (heights -h): its depth is
+// -log(1 - C(h)) = -log(-expm1(-l)) of the depth l from outside (a symmetric distribution of
+// heights), converted when the ray changes sides and the next step needs it.
+struct Depth {
+    double l = 0.0;      // -log C of the height, seen from side `outside`
+    bool outside = true; // the side whose heights l measures
+};
 
-// Height of the next intersection of a ray of direction w from height h above the mean
-// surface, or +inf when it leaves the microsurface (Heitz et al. 2016, Algorithm 2). With
-// C1 = cdf(h) and G1 = C1^Lambda the probability of leaving upward, the ray leaves when
-// u >= 1 - G1, i.e. when q = (1 - u)^(1 / Lambda) <= C1, and else hits at cdf^-1(C1 / q): one
-// pow for both. Downward, Lambda <= -1 and it always hits at cdf^-1(C1 (1 - u)^(-1 / Lambda))
-// (for Lambda = -1, the common case of a direction steeper than the microsurface's slopes,
-// C1 (1 - u) exactly). u is drawn only when the outcome is random: an upward ray with
-// Lambda = 0 (steeper than every microfacet) always leaves, a grazing one hits at once.
-double next_height(const dvec3& w, double h, double alpha, Rng& rng) {
-    if (std::abs(w.z) < 1e-12) return h; // grazing: hits at once
+// The next step of a ray of direction w (in the frame of its side: w.z > 0 away from its medium)
+// from depth d on side `outside`: true when it leaves the microsurface, else d is the depth of
+// the intersection. An upward ray with Lambda = 0 (steeper than every microfacet) always leaves,
+// a grazing one hits at once; E is drawn only when the outcome is random.
+bool next_depth(const dvec3& w, bool outside, double alpha, Depth& d, Rng& rng) {
+    if (std::abs(w.z) < 1e-12) return false; // grazing: hits at once
     const double lambda = walk_lambda(w, alpha);
-    if (w.z > 0 && !(lambda > 0)) return kInf;
-    const double c1 = height_cdf(h), u = rng.uniform();
-    double c;
-    if (w.z > 0) {
-        const double e = 1.0 / lambda, x = 1.0 - u;
-        // pow's value when it underflows (x <= 1/2 and e >= 1075: q <= 2^-1075 rounds to 0),
-        // without its slow underflow path: the ray leaves (c1 >= 0 = q).
-        if (x <= 0.5 && e >= 1075.0) return kInf;
-        const double q = std::pow(x, e);
-        if (q <= c1) return kInf;
-        c = c1 / q;
-    } else if (lambda == -1.0) {
-        c = c1 * (1.0 - u);
-    } else {
-        c = c1 * std::pow(1.0 - u, -1.0 / lambda); // lambda <= -1: always hits
+    if (w.z > 0 && !(lambda > 0)) return true;
+    const double e = exponential_variate(rng);
+    if (d.outside != outside) {
+        d.l = -std::log(-std::expm1(-d.l));
+        d.outside = outside;
     }
-    return height_inverse(c);
+    if (w.z > 0) {
+        if (e >= lambda * d.l) return true;
+        d.l = std::max(0.0, d.l - e / lambda);
+    } else {
+        d.l += lambda == -1.0 ? e : e / -lambda; // for Lambda = -1 (a direction steeper than
+                                                 // the microsurface's slopes) without division
+    }
+    return false;
 }
 
 // Refraction of wIn (pointing away from the surface on the incident side, wIn.m = c > 0) at
@@ -168,8 +167,9 @@ namespace {
 double disk_point(Rng& rng, double& x, double& y) {
     double r2;
     do {
-        x = 2.0 * rng.uniform() - 1.0;
-        y = 2.0 * rng.uniform() - 1.0;
+        const UniformPair p = uniform_pair(rng);
+        x = 2.0 * p.u - 1.0;
+        y = 2.0 * p.v - 1.0;
         r2 = x * x + y * y;
     } while (!(r2 < 1.0));
     return r2;
@@ -211,10 +211,10 @@ void sixth_turn(double u, double& c, double& s) {
 }
 
 // Slope x of a visible normal of the standard Beckmann surface seen from above the mean plane
-// (cosT > 0, sinT > 0), density p(x) proportional to exp(-x^2) (cosT - x sinT)_+, sampled
-// exactly by rejection from the mixture q(x) = cosT exp(-x^2) (all x) + sinT |x| exp(-x^2)
-// (x < 0 only), of masses cosT sqrt(pi) and sinT / 2: for x < 0, q = p; for x > 0,
-// p / q = (1 - x tanT)_+. The Gaussian component draws from `gauss` (an iid stream of
+// (cosT > 0, sinT > 0; any common positive factor of the two), density p(x) proportional to
+// exp(-x^2) (cosT - x sinT)_+, sampled exactly by rejection from the mixture q(x) = cosT exp(-x^2)
+// (all x) + sinT |x| exp(-x^2) (x < 0 only), of masses cosT sqrt(pi) and sinT / 2: for x < 0, q =
+// p; for x > 0, p / q = (1 - x tanT)_+. The Gaussian component draws from `gauss` (an iid stream of
 // N(0, 1/2)), the other is -sqrt(E), E exponential (P(|x| > t) = exp(-t^2)). Acceptance is
 // mass(p) / mass(q): 1 at normal and grazing views, 0.865 at worst (62.7 degrees); no exp or
 // erfc is evaluated.
@@ -223,32 +223,41 @@ double visible_slope_x_above(double cosT, double sinT, Rng& rng, Gauss& gauss) {
     const double wGauss = cosT * kSqrtPi;
     const double pGauss = wGauss / (wGauss + 0.5 * sinT);
     for (;;) {
-        if (rng.uniform() >= pGauss) return -std::sqrt(exponential_variate(rng));
+        const UniformPair p = uniform_pair(rng); // the component, the acceptance
+        if (p.u >= pGauss) return -std::sqrt(exponential_variate(rng));
         const double x = gauss();
-        if (x <= 0) return x;
-        if (rng.uniform() * cosT < cosT - x * sinT) return x;
+        // Accepted when x <= 0 or by the ratio p / q: one branch, taken mostly.
+        if ((x <= 0) | (p.v * cosT < cosT - x * sinT)) return x;
     }
 }
 
 } // namespace
 
 dvec3 sample_visible_normal(const dvec3& w, double alpha, Rng& rng) {
-    const dvec3 ws = glm::normalize(dvec3(alpha * w.x, alpha * w.y, w.z));
-    const double sinT = std::sqrt(ws.x * ws.x + ws.y * ws.y);
+    // The view of the standard surface (the stretched w): azimuth that of w, polar angle theta
+    // with (cos, sin) proportional to (w.z, alpha |w.xy|), left unnormalised where only their
+    // ratio matters (the sampling from above, the test for a view along the normal).
+    const double rxy = std::sqrt(w.x * w.x + w.y * w.y);
+    const double cosS = w.z, sinS = alpha * rxy;
     // Slope y (and x at normal view): Gaussians of density exp(-s^2) / sqrt(pi) (variance 1/2).
     auto gauss = [&]() { return kInvSqrt2 * normal_variate(rng); };
     const double sy = gauss();
     double sx;
     double cosPhi = 1.0, sinPhi = 0.0;
-    if (sinT < 1e-12) {
+    if (sinS * sinS < 1e-24 * (cosS * cosS + sinS * sinS)) { // sin(theta) < 1e-12
         sx = gauss();
     } else {
         // Views from above by rejection; from below (the random walk's masked rays) by the
         // inversion of the CDF.
-        sx = ws.z > 0 ? visible_slope_x_above(ws.z, sinT, rng, gauss)
-                      : visible_slope_x(ws.z, sinT, rng.uniform_open());
-        cosPhi = ws.x / sinT;
-        sinPhi = ws.y / sinT;
+        if (cosS > 0) {
+            sx = visible_slope_x_above(cosS, sinS, rng, gauss);
+        } else {
+            const double n = 1.0 / std::sqrt(cosS * cosS + sinS * sinS);
+            sx = visible_slope_x(cosS * n, sinS * n, rng.uniform_open());
+        }
+        const double inv = 1.0 / rxy;
+        cosPhi = w.x * inv;
+        sinPhi = w.y * inv;
     }
     const double tx = alpha * (cosPhi * sx - sinPhi * sy);
     const double ty = alpha * (sinPhi * sx + cosPhi * sy);
@@ -259,17 +268,15 @@ Crossing cross_top_surface(const Sheet& sheet, const dvec3& dir, bool from_outsi
     Crossing out;
     dvec3 w = dir;
     bool outside = from_outside;
-    double h = outside ? 2.0 : -2.0; // above / below every point of the microsurface
+    Depth depth; // above (outside) / below (inside) every point of the microsurface
+    depth.outside = outside;
     for (int order = 0; order <= kMaxWalkOrder; ++order) {
-        const double hn =
-            outside ? next_height(w, h, sheet.alpha, rng) : -next_height(-w, -h, sheet.alpha, rng);
-        if (!std::isfinite(hn)) {
+        if (next_depth(outside ? w : -w, outside, sheet.alpha, depth, rng)) {
             out.dir = w;
             out.outside = outside;
             out.order = order;
             return out;
         }
-        h = hn;
         if (order == kMaxWalkOrder) break;
         // Scattering at a visible microfacet: normal seen from wIn on this side.
         const dvec3 wIn = -w;
@@ -300,6 +307,7 @@ PrismOutcome trace_prism(const Sheet& sheet, const dvec3& d, Rng& rng, dvec3* ex
     // b_k = d.e_k, e_k = (sqrt(2/3) v_k, 1/sqrt3), v_k the vertex directions at psi + 120 k
     // degrees, psi the orientation of vertex 0.
     double b[3];
+    double roulette = -1.0; // the uniform of the faces' Russian roulette when drawn in advance
     if (sheet.era_mode == f64::RP_ERA_AVERAGED && sheet.cant_deg == 0.0 &&
         sheet.dihedral_arcmin == 0.0 && sheet.dihedral_spread_arcmin == 0.0) {
         // psi uniform: v_k.d = r cos(chi + 120 k degrees) with chi = psi - azimuth(d) uniform,
@@ -308,7 +316,9 @@ PrismOutcome trace_prism(const Sheet& sheet, const dvec3& d, Rng& rng, dvec3* ex
         // prism onto itself with its faces permuted, under which the uniform entry point and
         // the trace below are symmetric).
         double cosChi, sinChi;
-        sixth_turn(rng.uniform(), cosChi, sinChi);
+        const UniformPair turn = uniform_pair(rng); // the turn, the faces' roulette
+        sixth_turn(turn.u, cosChi, sinChi);
+        roulette = turn.v;
         const double r = kSqrt2Over3 * std::sqrt(d.x * d.x + d.y * d.y), z = kInvSqrt3 * d.z;
         const double along = -0.5 * r * cosChi, across = kSin120 * r * sinChi;
         b[0] = r * cosChi + z;
@@ -348,9 +358,11 @@ PrismOutcome trace_prism(const Sheet& sheet, const dvec3& d, Rng& rng, dvec3* ex
     // Uniform entry point on the aperture, in the coordinates a_k = x.e_k (the solid is
     // a_k >= 0, a1 + a2 + a3 <= 1; the aperture a1 + a2 + a3 = 1).
     const double u = rng.uniform(), v = rng.uniform();
-    const bool fold = u + v > 1.0;
-    a[0] = fold ? 1.0 - u : u;
-    a[1] = fold ? 1.0 - v : v;
+    // Folded into the triangle when u + v > 1, without a branch on the random point: u + (1 - 2u)
+    // is 1 - u exactly (u a multiple of 2^-53 in [0, 1)).
+    const double fold = double(u + v > 1.0);
+    a[0] = u + fold * (1.0 - 2.0 * u);
+    a[1] = v + fold * (1.0 - 2.0 * v);
     a[2] = std::max(0.0, 1.0 - a[0] - a[1]);
     // The faces are the coordinate planes of the orthonormal frame e_k, and a reflection on face
     // k only flips b_k: unfolded, the path is the straight line a + t b, its point in the solid
@@ -359,35 +371,41 @@ PrismOutcome trace_prism(const Sheet& sheet, const dvec3& d, Rng& rng, dvec3* ex
     // k is hit (once, at cosine -b_k) iff b_k < 0 and S(t_k) < 1 at t_k = a_k / -b_k: the
     // faces hit and their cosines follow without tracing them in order.
     int reflections = 0;
-    double cosHit[3];
+    bool hit[3];
     // Multiplied by -b_k > 0, S(t_k) < 1 reads sum_j |a_j (-b_k) + a_k b_j| < -b_k (term k is
     // 0): no division, and no branch on the random entry point.
     for (int k = 0; k < 3; ++k) {
         const int i = k == 2 ? 0 : k + 1, j = k == 0 ? 2 : k - 1;
         const double sAt =
             std::abs(a[k] * b[i] - a[i] * b[k]) + std::abs(a[k] * b[j] - a[j] * b[k]);
-        cosHit[reflections] = -b[k];
-        reflections += int(b[k] < 0 && sAt < -b[k]);
+        hit[k] = (b[k] < 0) & (sAt < -b[k]);
+        reflections += int(hit[k]);
     }
     // Each hit reflects independently with its probability (tir: the internal Fresnel
     // reflectance at its cosine; metallized: metal_reflectance), so the ray survives its hits
     // with the product of those probabilities: one Russian roulette on the product.
-    if (reflections > 0) {
-        if (sheet.prism_reflection == f64::RP_PRISM_TIR) {
-            double keep = 1.0;
-            for (int k = 0; k < reflections; ++k) {
-                const double c = cosHit[k];
-                // Total internal reflection (reflectance 1) without the Fresnel terms.
-                if ((1.0 - c * c) * sheet.eta * sheet.eta < 1.0)
-                    keep *= f64::rp_fresnel_internal(c, sheet.eta);
-            }
-            if (keep < 1.0 && rng.uniform() >= keep) return kPrismTransmitted;
-        } else if (sheet.prism_reflection == f64::RP_PRISM_METALLIZED) {
-            double keep = sheet.metal_reflectance;
-            for (int k = 1; k < reflections; ++k)
-                keep *= sheet.metal_reflectance;
-            if (rng.uniform() >= keep) return kPrismAbsorbed;
+    if (sheet.prism_reflection == f64::RP_PRISM_TIR) {
+        // The hits below the critical angle ((1 - c^2) eta^2 < 1; above it total internal
+        // reflection, reflectance 1): found without a branch per face, then one branch (on the
+        // way down, rarely taken) to their Fresnel terms.
+        bool partial[3];
+        bool any = false;
+        for (int k = 0; k < 3; ++k) {
+            partial[k] = hit[k] & ((1.0 - b[k] * b[k]) * sheet.eta * sheet.eta < 1.0);
+            any |= partial[k];
         }
+        if (any) {
+            double keep = 1.0;
+            for (int k = 0; k < 3; ++k)
+                if (partial[k]) keep *= f64::rp_fresnel_internal(-b[k], sheet.eta);
+            if (keep < 1.0 && (roulette >= 0 ? roulette : rng.uniform()) >= keep)
+                return kPrismTransmitted;
+        }
+    } else if (sheet.prism_reflection == f64::RP_PRISM_METALLIZED && reflections > 0) {
+        double keep = sheet.metal_reflectance;
+        for (int k = 1; k < reflections; ++k)
+            keep *= sheet.metal_reflectance;
+        if ((roulette >= 0 ? roulette : rng.uniform()) >= keep) return kPrismAbsorbed;
     }
     if (reflections != 3) return kPrismMiss;
     if (exit) *exit = -d;
@@ -408,7 +426,9 @@ const char* channel_name(int channel) {
     return channel >= 0 && channel < kChannels ? names[channel] : "?";
 }
 
-Path trace_path(const Sheet& sheet, const dvec3& wi, Rng& rng) {
+// Flattened: the walk, the prism trace and the variates inlined into the path's loop (identical
+// results, fewer instructions per ray: no calls and register spills per event).
+[[gnu::flatten]] Path trace_path(const Sheet& sheet, const dvec3& wi, Rng& rng) {
     Path p;
     const Crossing in = cross_top_surface(sheet, -wi, true, rng);
     if (in.trapped) return p;
@@ -723,6 +743,35 @@ dvec3 sample_cone(const dvec3& c, const dvec3& e1, const dvec3& e2, double r, Rn
     }
 }
 
+// One path in a tally: its fate and counters and, for an exit, its cell in each grid (flattened:
+// the grids' lookups inlined).
+[[gnu::flatten]] void tally_path(const Path& p, const std::vector<Grid>& grids, Tally& t) {
+    ++t.fates[size_t(p.fate)];
+    t.substrate_hits += std::uint64_t(p.substrate_hits);
+    t.face_transmissions += std::uint64_t(p.face_transmissions);
+    t.internal_reflections += std::uint64_t(p.internal_reflections);
+    int channel = -1;
+    bool single = false;
+    if (p.fate == kFateSurface) {
+        channel = kSurface;
+        single = p.surface_order == 1;
+        if (single) ++t.surface_single;
+    } else if (p.fate == kFateRetro) {
+        channel = kRetro;
+        if (p.retroreflections == 1 && p.internal_reflections == 0) ++t.retro_primary;
+        if (p.retroreflections > 1) ++t.retro_multiple;
+    } else if (p.fate == kFateDiffuse) {
+        channel = kDiffuse;
+    }
+    if (channel < 0) return;
+    for (size_t g = 0; g < grids.size(); ++g) {
+        const int cell = grids[g].cell_of(p.wo);
+        if (cell < 0) continue;
+        t.counts[g][size_t(cell) * kChannels + size_t(channel)] += 1;
+        if (single) t.counts[g][size_t(cell) * kChannels + kSurfaceSingle] += 1;
+    }
+}
+
 } // namespace
 
 void Tally::add(const Tally& o) {
@@ -771,31 +820,7 @@ Run simulate(const Sheet& sheet, const dvec3& wiIn, const std::vector<Grid>& gri
             for (std::uint64_t r = 0; r < n; ++r) {
                 dvec3 w = wi;
                 if (opt.incidence_cone > 0) w = sample_cone(wi, e1, e2, opt.incidence_cone, rng);
-                const Path p = trace_path(sheet, w, rng);
-                ++t.fates[size_t(p.fate)];
-                t.substrate_hits += std::uint64_t(p.substrate_hits);
-                t.face_transmissions += std::uint64_t(p.face_transmissions);
-                t.internal_reflections += std::uint64_t(p.internal_reflections);
-                int channel = -1;
-                bool single = false;
-                if (p.fate == kFateSurface) {
-                    channel = kSurface;
-                    single = p.surface_order == 1;
-                    if (single) ++t.surface_single;
-                } else if (p.fate == kFateRetro) {
-                    channel = kRetro;
-                    if (p.retroreflections == 1 && p.internal_reflections == 0) ++t.retro_primary;
-                    if (p.retroreflections > 1) ++t.retro_multiple;
-                } else if (p.fate == kFateDiffuse) {
-                    channel = kDiffuse;
-                }
-                if (channel < 0) continue;
-                for (size_t g = 0; g < grids.size(); ++g) {
-                    const int cell = grids[g].cell_of(p.wo);
-                    if (cell < 0) continue;
-                    t.counts[g][size_t(cell) * kChannels + size_t(channel)] += 1;
-                    if (single) t.counts[g][size_t(cell) * kChannels + kSurfaceSingle] += 1;
-                }
+                tally_path(trace_path(sheet, w, rng), grids, t);
             }
             t.rays += n;
             if (done.fetch_add(n) + n == opt.rays) {
