@@ -64,12 +64,21 @@ std::vector<NamedMaterial> bundled_sheetings() {
     std::sort(found.begin(), found.end(),
               [](const auto& a, const auto& b) { return a.first < b.first; });
     std::vector<NamedMaterial> out;
-    for (const auto& [name, params] : found)
+    for (const auto& [name, params] : found) {
         for (int prism : {0, 1}) {
             Params p = params;
             p.prism_reflection = prism;
             out.push_back({name + (prism == 0 ? " ideal" : " tir"), p});
         }
+        // Uncoated prisms lose retroreflection by azimuth: with the azimuth-averaged ERA too
+        // (era_mode 0, the one the portable graph computes), when the sheeting has another.
+        if (params.era_mode != 0) {
+            Params p = params;
+            p.prism_reflection = 1;
+            p.era_mode = 0;
+            out.push_back({name + " tir averaged", p});
+        }
+    }
     return out;
 }
 

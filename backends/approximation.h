@@ -39,7 +39,9 @@ struct NamedMaterial {
 
 // The bundled sheetings: the materials of examples/materials/*.json and the documents of
 // examples/sheeting/*.mtlx under data_dir() (util/paths.h), in name order, each twice: with
-// prism_reflection ideal ("NAME ideal") and tir ("NAME tir", uncoated prisms).
+// prism_reflection ideal ("NAME ideal") and tir ("NAME tir", uncoated prisms); and a third time
+// when its era_mode is not averaged, with uncoated prisms and era_mode averaged ("NAME tir
+// averaged").
 std::vector<NamedMaterial> bundled_sheetings();
 
 } // namespace retroprism

@@ -39,7 +39,7 @@ int report_approximation(const std::string& name) {
                 "over the standard direction pairs; R_A (luminance) relative deviation at "
                 "observation 0.2-1.5 x entrance -4-45 deg, rotation 0\n",
                 name.c_str());
-    std::printf("%-24s %9s %9s %9s %9s  %12s %s\n", "sheeting", "surface", "retro", "diffuse", "f",
+    std::printf("%-26s %9s %9s %9s %9s  %12s %s\n", "sheeting", "surface", "retro", "diffuse", "f",
                 "R_A max dev", "at (obs, entr)");
     const std::vector<NamedMaterial> sheetings = bundled_sheetings();
     std::vector<RaDeviation> deviations;
@@ -48,7 +48,7 @@ int report_approximation(const std::string& name) {
         const LobeErrors e = lobe_l1_errors(name, s.params);
         const RaTable ref = ra_table(s.params, 0.0);
         const RaDeviation d = ra_deviation(ref, backend_ra_table(name, s.params));
-        std::printf("%-24s %9.4f %9.4f %9.4f %9.4f  %11.1f%% (%.2f, %.0f)\n", s.name.c_str(),
+        std::printf("%-26s %9.4f %9.4f %9.4f %9.4f  %11.1f%% (%.2f, %.0f)\n", s.name.c_str(),
                     e.surface, e.retro, e.diffuse, e.total, 100 * d.max_abs, d.observation,
                     d.entrance);
         std::fflush(stdout);

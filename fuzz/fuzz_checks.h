@@ -45,6 +45,7 @@
 #include "alta_reader.h"
 #include "answer.h"
 #include "mtlx_reader.h"
+#include "mtlx_writer.h"
 #include "prismatic_retroreflector.h"
 #include "query.h"
 #include "ra_table.h"
@@ -464,6 +465,37 @@ inline void check_mtlx(const std::uint8_t* data, size_t size) {
             throw Violation(std::string("to_working_space threw ") + typeid(e).name() + ": " +
                             e.what());
         }
+    }
+    // The writer's document of what was read reads back with the same enums and booleans, and
+    // floats and colours to the writer's nine digits (1e-8 relative); it writes no vectors
+    // (normal and tangent are the geometry's).
+    for (const retroprism::MtlxMaterial& m : doc.materials) {
+        retroprism::Params back;
+        try {
+            back = retroprism::parse_mtlx(retroprism::mtlx_document({{"round_trip", m.params}}, {}),
+                                          "round_trip.mtlx")
+                       .materials.at(0)
+                       .params;
+        } catch (const std::exception& e) {
+            throw Violation(std::string("the writer's document of material ") + m.name +
+                            " does not read back: " + e.what());
+        }
+        retroprism::for_each_input(m.params, [&](const retroprism::ParamInfo& info, const auto& v) {
+            using T = std::decay_t<decltype(v)>;
+            const T& w = *retroprism::input_field<T>(back, info.name);
+            bool same = true;
+            if constexpr (std::is_same_v<T, double>)
+                same = std::abs(v - w) <= 1e-8 * std::max(1.0, std::abs(v));
+            else if constexpr (std::is_same_v<T, retroprism::Color3>) {
+                if (info.type == retroprism::ParamType::Vector) return;
+                for (int k = 0; k < 3; ++k)
+                    same = same && std::abs(v[k] - w[k]) <= 1e-8 * std::max(1.0, std::abs(v[k]));
+            } else
+                same = v == w;
+            if (!same)
+                throw Violation("material " + m.name + ": input " + info.name +
+                                " changes in the writer's document");
+        });
     }
     try {
         (void)retroprism::select_material(doc, "");

@@ -658,14 +658,14 @@ MaterialxInputs materialx_inputs() {
     in.args += #name ", ";
 #define RP_ENUM(name, def, values, doc)                                                            \
     {                                                                                              \
-        std::vector<std::string> items;                                                            \
+        std::string indices;                                                                       \
         std::stringstream ss(values);                                                              \
         std::string item;                                                                          \
-        while (std::getline(ss, item, ','))                                                        \
-            items.push_back(item);                                                                 \
-        in.nodedef += "    <input name=\"" #name "\" type=\"string\" value=\"" + items.at(def) +   \
-                      "\" enum=\"" values "\" uniform=\"true\"\n           doc=\"" +               \
-                      xml_escape(doc) + "\"/>\n";                                                  \
+        for (int k = 0; std::getline(ss, item, ','); ++k)                                          \
+            indices += (k ? "," : "") + std::to_string(k);                                         \
+        in.nodedef += "    <input name=\"" #name "\" type=\"integer\" value=\"" +                  \
+                      std::to_string(def) + "\" enum=\"" values "\" enumvalues=\"" + indices +     \
+                      "\" uniform=\"true\"\n           doc=\"" + xml_escape(doc) + "\"/>\n";       \
     }                                                                                              \
     in.params += ", int " #name;                                                                   \
     in.args += #name ", ";

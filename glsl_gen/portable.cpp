@@ -20,6 +20,20 @@ constexpr int kEraDegreeSin = 14;
 constexpr int kEraDegreeCant = 6;
 constexpr int kFdrDegree = 10;
 constexpr double kCantRange = 30.0; // cant_angle's range, degrees (the parameter table's)
+// Uncoated prisms: the fit of Q = E_tir / A in (z, eta) (fit_tir_ratio). Its residual is largest
+// near eta = 1.22, where total internal reflection at normal incidence sets in and Q falls from
+// 1 to the faces' Fresnel reflectances within a few hundredths of eta; the weight kTirWeight on
+// eta in [kTirWeightLo, kTirWeightHi] (the sheeting plastics, acrylic to polycarbonate) keeps the
+// fit's relative error there at about 1% (docs/portable.md).
+constexpr int kTirDegreeY = 10;
+constexpr int kTirDegreeEta = 8;
+constexpr double kTirWeight = 10.0;
+constexpr double kTirWeightLo = 1.45;
+constexpr double kTirWeightHi = 1.65;
+// Tikhonov weight on the coefficients: keeps the largest below 1e3 (as the ideal ERA's fit)
+// for 0.0005 more RMS error.
+constexpr double kTirRidge = 1e-4;
+constexpr int kHitsDegree = 10;
 
 // Least squares min |A x - b| by Householder QR (rows >= columns, A of full column rank).
 std::vector<double> least_squares(std::vector<std::vector<double>> a, std::vector<double> b) {
@@ -63,15 +77,39 @@ std::vector<double> least_squares(std::vector<std::vector<double>> a, std::vecto
     return x;
 }
 
+// Least squares of the design rows (one per point, already weighted) onto `values`, into a
+// PolyFit's coefficient layout of degrees (du, dv).
+std::vector<std::vector<double>> solve_coefficients(const std::vector<std::vector<double>>& rows,
+                                                    const std::vector<double>& values, int du,
+                                                    int dv) {
+    const std::vector<double> x = least_squares(rows, values);
+    std::vector<std::vector<double>> coef(size_t(du + 1), std::vector<double>(size_t(dv + 1)));
+    for (int i = 0; i <= du; ++i)
+        for (int j = 0; j <= dv; ++j)
+            coef[size_t(i)][size_t(j)] = x[size_t(i * (dv + 1) + j)];
+    return coef;
+}
+
+std::vector<double> monomials(double u, double v, int du, int dv, double weight) {
+    std::vector<double> row;
+    for (int i = 0; i <= du; ++i)
+        for (int j = 0; j <= dv; ++j)
+            row.push_back(weight * std::pow(u, i) * std::pow(v, j));
+    return row;
+}
+
+// sum_ij c[i][j] u^i v^j by Horner's rule in Real: float evaluates it as a shader does (the
+// graph's nodes are single precision in GLSL), so that a fit's error includes its rounding.
+template <class Real = double>
 double poly2(const std::vector<std::vector<double>>& c, double u, double v) {
-    double sum = 0;
+    Real sum = 0;
     for (size_t i = c.size(); i-- > 0;) {
-        double q = 0;
+        Real q = 0;
         for (size_t j = c[i].size(); j-- > 0;)
-            q = q * v + c[i][j];
-        sum = sum * u + q;
+            q = q * Real(v) + Real(c[i][j]);
+        sum = sum * Real(u) + q;
     }
-    return sum;
+    return double(sum);
 }
 
 // Fits f(u, v) on the grid us x vs with degrees (du, dv).
@@ -81,19 +119,11 @@ PolyFit fit2(const std::vector<double>& us, const std::vector<double>& vs, int d
     std::vector<double> values;
     for (double u : us)
         for (double v : vs) {
-            std::vector<double> row;
-            for (int i = 0; i <= du; ++i)
-                for (int j = 0; j <= dv; ++j)
-                    row.push_back(std::pow(u, i) * std::pow(v, j));
-            rows.push_back(row);
+            rows.push_back(monomials(u, v, du, dv, 1.0));
             values.push_back(f(u, v));
         }
-    const std::vector<double> x = least_squares(rows, values);
     PolyFit fit;
-    fit.coef.assign(size_t(du + 1), std::vector<double>(size_t(dv + 1)));
-    for (int i = 0; i <= du; ++i)
-        for (int j = 0; j <= dv; ++j)
-            fit.coef[size_t(i)][size_t(j)] = x[size_t(i * (dv + 1) + j)];
+    fit.coef = solve_coefficients(rows, values, du, dv);
     double sum2 = 0;
     size_t k = 0;
     for (double u : us)
@@ -117,18 +147,17 @@ std::vector<double> grid(double lo, double hi, int n) {
 
 const std::vector<PortableException>& portable_exceptions() {
     static const std::vector<PortableException> list = {
-        {"prism_reflection",
-         "a string enum: no standard node of MaterialX 1.39 reads a string's value (string inputs "
-         "connect only to string inputs, and there is no string comparison), so the graph keeps "
-         "the default, ideal prisms"},
-        {"metal_reflectance", "used only by prism_reflection = metallized (see prism_reflection)"},
-        {"era_mode", "a string enum (see prism_reflection): the graph keeps the default, the "
-                     "azimuth-averaged ERA"},
+        {"era_mode", "the graph keeps the azimuth-averaged ERA (averaged): matched_pair and "
+                     "oriented depend on the prisms' azimuth, which its fits of the ERA do not "
+                     "have"},
         {"orientation", "the prisms' azimuth matters only for era_mode matched_pair and oriented"},
         {"tangent", "the reference azimuth of orientation (see orientation)"},
-        {"retro_lobe", "a string enum (see prism_reflection): the graph keeps the default, the "
-                       "isotropic lobe"},
-        {"fidelity", "a string enum (see prism_reflection); the graph is one approximation tier"},
+        {"retro_lobe",
+         "the graph keeps the isotropic lobe: the anisotropic lobe's widths along and "
+         "across the plane of incidence would need an anisotropic GGX lobe about V "
+         "with its tangent in that plane, which the graph does not build"},
+        {"fidelity", "the graph is one approximation tier: its fits stand for the exact and the "
+                     "fast formulas alike"},
         {"dihedral_error",
          "the ring of spots of cube corners with dihedral-angle errors (a ring convolved with the "
          "retro lobe) has no standard-node form: one microfacet lobe about the view direction "
@@ -165,6 +194,91 @@ const PolyFit& fit_era() {
 const PolyFit& fit_fdr() {
     static const PolyFit fit = fit2(grid(-1, 1, 201), {0.0}, kFdrDegree, 0,
                                     [](double u, double) { return fdr_internal(u + 2); });
+    return fit;
+}
+
+namespace {
+
+// E of the node for the refracted direction of sin(theta_t) (refracted from sin(theta_i) = eta
+// sin(theta_t) in the plane phi = 0; the averaged ERA does not depend on phi).
+double node_era(const PrismaticRetroreflector<double>& node, double eta, double sinT) {
+    const double s = std::min(eta * sinT, 0.9999);
+    return node.retro_fraction({s, 0.0, std::sqrt(1 - s * s)});
+}
+
+PrismaticRetroreflector<double> prism_node(double eta, int prismReflection) {
+    Params p;
+    p.ior = eta;
+    p.prism_reflection = prismReflection;
+    return PrismaticRetroreflector<double>(p);
+}
+
+} // namespace
+
+double tir_onset(double sinT, double eta) {
+    const double critical = std::asin(1 / eta);
+    const double tilt = std::max(std::asin(std::min(sinT, 1.0)) + critical - kCubeFaceAngle, 0.0);
+    return std::min(tilt / std::max(2 * critical - kCubeFaceAngle, kTirMinSpan), 1.0);
+}
+
+const PolyFit& fit_tir_ratio() {
+    static const PolyFit fit = [] {
+        // The uncanted cube's ERA A of the refracted direction (ior 1: wi is that direction).
+        const PrismaticRetroreflector<double> ideal = prism_node(1.0, 0);
+        struct Point {
+            double sinT, eta, area, era;
+        };
+        std::vector<Point> points;
+        std::vector<std::vector<double>> rows;
+        std::vector<double> values;
+        for (double eta : grid(1, 3, 81)) {
+            const PrismaticRetroreflector<double> tir = prism_node(eta, 1);
+            for (double sinT : grid(0, 1, 201)) {
+                const double area = node_era(ideal, 1.0, sinT);
+                if (sinT > 1 / eta || area < 1e-3) continue; // no refracted direction; no ERA
+                const Point pt{sinT, eta, area, node_era(tir, eta, sinT)};
+                const double w =
+                    eta >= kTirWeightLo - 1e-9 && eta <= kTirWeightHi + 1e-9 ? kTirWeight : 1.0;
+                rows.push_back(monomials(2 * tir_onset(sinT, eta) - 1, eta - 2, kTirDegreeY,
+                                         kTirDegreeEta, w));
+                values.push_back(w * pt.era / pt.area);
+                points.push_back(pt);
+            }
+        }
+        // Ridge rows: the least-squares solution alone has coefficients of up to 4e5 (the fall
+        // of Q near eta 1.22 drives them), which cancel beyond single precision in a shader.
+        const size_t count = rows.at(0).size();
+        for (size_t k = 0; k < count; ++k) {
+            rows.emplace_back(count, 0.0);
+            rows.back()[k] = kTirRidge;
+            values.push_back(0.0);
+        }
+        PolyFit f;
+        f.coef = solve_coefficients(rows, values, kTirDegreeY, kTirDegreeEta);
+        auto era = [&](const Point& pt) {
+            const double q = poly2<float>(f.coef, 2 * tir_onset(pt.sinT, pt.eta) - 1, pt.eta - 2);
+            return std::clamp(q, 0.0, 1.0) * pt.area;
+        };
+        double sum2 = 0;
+        for (const Point& pt : points) {
+            const double e = std::abs(era(pt) - pt.era);
+            f.max_error = std::max(f.max_error, e);
+            sum2 += e * e;
+            if (pt.eta >= kTirWeightLo - 1e-9 && pt.eta <= kTirWeightHi + 1e-9 &&
+                pt.eta * pt.sinT <= std::sqrt(0.5) && pt.era > 0)
+                f.max_rel_error = std::max(f.max_rel_error, e / pt.era);
+        }
+        f.rms_error = std::sqrt(sum2 / double(points.size()));
+        return f;
+    }();
+    return fit;
+}
+
+const PolyFit& fit_metal_hits() {
+    static const PolyFit fit = fit2(grid(-1, 1, 201), {0.0}, kHitsDegree, 0, [](double u, double) {
+        const double s = std::min(0.5 * (u + 1), 0.9999);
+        return metal_hits_averaged_direct(s / std::sqrt(1 - s * s));
+    });
     return fit;
 }
 
@@ -351,10 +465,45 @@ std::string generate_portable_nodegraph() {
     Val sinT = g.div(g.sqrt(g.max(g.sub(Graph::f(1), c2), Graph::f(0))), eta);
     Val trans = transmittance(g, c, gEta);
     Val trans2 = g.mul(trans, trans);
-    g.comment("E: the averaged ERA of ideal prisms, fitted in (sin theta_t, cant_angle)");
+    g.comment("A: the averaged ERA of ideal prisms, fitted in (sin theta_t, cant_angle)");
     Val u = g.sub(g.mul(sinT, Graph::f(2)), Graph::f(1));
     Val cant = g.div(float_input(g, "cant_angle"), Graph::f(kCantRange));
-    Val era = g.clamp(g.poly(fit_era().coef, u, cant), 0, 1);
+    Val area = g.clamp(g.poly(fit_era().coef, u, cant), 0, 1);
+    g.comment("Uncoated prisms: E = A Q, Q fitted in eta and the tilt beyond the onset of partial "
+              "reflection, asin(sin theta_t) + asin(1 / eta) - acos(1 / sqrt3), as a fraction of "
+              "its span 2 asin(1 / eta) - acos(1 / sqrt3)");
+    Val critical = g.node("asin", "float", {{"in", g.div(Graph::f(1), eta)}});
+    Val tilt =
+        g.max(g.sub(g.add(g.node("asin", "float", {{"in", g.min(sinT, Graph::f(1))}}), critical),
+                    Graph::f(kCubeFaceAngle)),
+              Graph::f(0));
+    Val span =
+        g.max(g.sub(g.mul(critical, Graph::f(2)), Graph::f(kCubeFaceAngle)), Graph::f(kTirMinSpan));
+    Val uTir = g.sub(g.mul(g.min(g.div(tilt, span), Graph::f(1)), Graph::f(2)), Graph::f(1));
+    Val eraTir =
+        g.mul(area, g.clamp(g.poly(fit_tir_ratio().coef, uTir, g.sub(eta, Graph::f(2))), 0, 1));
+    g.comment(
+        "Metallized prisms: E = A R^3; the substrate receives R P1 + R^2 P2, P2 = H - 1 - 2A, "
+        "P1 = 1 - A - P2, H the faces a ray meets (fitted for the uncanted cube)");
+    Val metal = float_input(g, "metal_reflectance");
+    Val metal2 = g.mul(metal, metal);
+    Val eraMetal = g.mul(area, g.mul(metal2, metal));
+    Val hits = g.poly(fit_metal_hits().coef, u, Graph::f(0));
+    Val p2 = g.max(g.sub(g.sub(hits, Graph::f(1)), g.mul(area, Graph::f(2))), Graph::f(0));
+    Val p1 = g.max(g.sub(g.sub(Graph::f(1), area), p2), Graph::f(0));
+    Val passedMetal = g.add(g.mul(metal, p1), g.mul(metal2, p2));
+    g.comment("prism_reflection (an integer enum: 0 ideal, 1 tir, 2 metallized) chooses E and the "
+              "fraction that reaches the substrate");
+    Val prism = g.input("prism_reflection", "integer");
+    auto choose = [&](int value, const Val& yes, const Val& no) {
+        return g.node("ifequal", "float",
+                      {{"value1", prism},
+                       {"value2", {"integer", "value", std::to_string(value)}},
+                       {"in1", yes},
+                       {"in2", no}});
+    };
+    Val era = choose(1, eraTir, choose(2, eraMetal, area));
+    Val passed = choose(2, passedMetal, g.sub(Graph::f(1), era));
     g.comment("Surface lobe: dielectric_bsdf, GGX of the Beckmann roughness");
     Val alpha = g.max(float_input(g, "roughness"), Graph::f(minAlpha));
     Val alpha2 = g.node("combine2", "vector2", {{"in1", alpha}, {"in2", alpha}});
@@ -388,17 +537,19 @@ std::string generate_portable_nodegraph() {
                 {"roughness", g.node("combine2", "vector2", {{"in1", alphaG}, {"in2", alphaG}})},
                 {"normal", v},
                 {"scatter_mode", {"string", "value", "R"}}});
-    g.comment("Diffuse lobe: Lambert of k_d T^2 (1 - E) / (eta^2 (1 - k_d F_dr(eta)))");
+    g.comment("Diffuse lobe: Lambert of k_d T^2 passed / (eta^2 (1 - k_d F_dr(eta))), passed = 1 - "
+              "E (metallized: R P1 + R^2 P2)");
     Val kd = color_input(g, "diffuse_color");
     Val fdr = g.clamp(g.poly(fit_fdr().coef, g.sub(eta, Graph::f(2)), Graph::f(0)), 0, 1);
     Val denom = g.mul(g.sub(Graph::grey(1), g.mul(kd, fdr)), eta2);
-    Val diffuseColor =
-        g.mul(g.div(kd, denom), g.mul(weight, g.mul(trans2, g.sub(Graph::f(1), era))));
+    Val diffuseColor = g.mul(g.div(kd, denom), g.mul(weight, g.mul(trans2, passed)));
     Val diffuse = g.node("oren_nayar_diffuse_bsdf", "BSDF",
                          {{"color", diffuseColor}, {"roughness", Graph::f(0)}, {"normal", n}});
     Val sum = g.add(g.add(surface, retro), diffuse);
     check_coverage(g);
     const PolyFit& e = fit_era();
+    const PolyFit& t = fit_tir_ratio();
+    const PolyFit& h = fit_metal_hits();
     const PolyFit& d = fit_fdr();
     const RetroLobeFit& r = fit_retro_lobe();
     return "<?xml version=\"1.0\"?>\n<materialx version=\"1.39\">\n"
@@ -413,6 +564,15 @@ std::string generate_portable_nodegraph() {
            std::to_string(kEraDegreeSin) + " x " + std::to_string(kEraDegreeCant) +
            ", largest error " + num(e.max_error) + " (RMS " + num(e.rms_error) +
            ");\n"
+           "       ERA of uncoated prisms A Q, Q in (onset tilt, eta), degree " +
+           std::to_string(kTirDegreeY) + " x " + std::to_string(kTirDegreeEta) +
+           ", eta in [1, 3] " + "weighted " + num(kTirWeight) + " in [" + num(kTirWeightLo) + ", " +
+           num(kTirWeightHi) + "]:\n       largest error of E " + num(t.max_error) + " (RMS " +
+           num(t.rms_error) + "), largest relative error " + num(t.max_rel_error) +
+           " where weighted (entrance <= 45 deg);\n"
+           "       metallized faces met H(sin theta_t), degree " +
+           std::to_string(kHitsDegree) + ", largest error " + num(h.max_error) +
+           ";\n"
            "       F_dr(eta), degree " +
            std::to_string(kFdrDegree) + ", largest error " + num(d.max_error) +
            "; retro lobe: GGX of width " + num(r.width) + " alpha_o / 2, scale " + num(r.scale) +

@@ -39,12 +39,34 @@ struct PolyFit {
     std::vector<std::vector<double>> coef;
     double max_error = 0; // largest |fit - model| over the fit's grid
     double rms_error = 0;
+    double max_rel_error = 0; // fit_tir_ratio: largest |fit / model - 1| where it is weighted
 };
 
 // The azimuth-averaged ERA A of ideal prisms over u = 2 sin(theta_t) - 1 and v = cant / 30 deg.
 const PolyFit& fit_era();
 // F_dr(eta), the internal hemispherical-diffuse reflectance, over u = eta - 2 (eta in [1, 3]).
 const PolyFit& fit_fdr();
+
+// Uncoated (tir) prisms: E = A Q with A the ideal prisms' ERA and Q the mean product of the
+// three faces' reflectances over the retroreflecting aperture. Q is 1 until the refracted
+// direction tilts one face's incidence below the critical angle: for the paper's cube, at
+// theta_t = kCubeFaceAngle - asin(1 / eta) (the face normals are kCubeFaceAngle from the cube
+// axis). Q is fitted as a function of z = tir_onset(sin theta_t, eta), the tilt beyond that
+// onset as a fraction of its largest value at eta (2 asin(1 / eta) - kCubeFaceAngle, at grazing
+// incidence; 0 before the onset), over u = 2 z - 1 and v = eta - 2, eta in the node's [1, 3]:
+// a rectangle in (u, v), so that the coefficients stay small enough for single precision.
+// Least squares of Q, weighted toward the sheeting plastics; the errors are those of E = A Q
+// against PrismaticRetroreflector<double>::retro_fraction with prism_reflection tir (era
+// averaged), cant 0.
+constexpr double kCubeFaceAngle = 0.9553166181245093; // acos(1 / sqrt 3)
+// The span below which the onset's range counts as empty (eta above 2.17: total internal
+// reflection at every incidence in the plane of the fit).
+constexpr double kTirMinSpan = 1e-3;
+double tir_onset(double sinT, double eta);
+const PolyFit& fit_tir_ratio();
+// Metallized prisms: sum_k H_k, the mean number of faces a ray entering the aperture meets
+// (prism_core.inc), azimuth-averaged for the uncanted cube, over u = 2 sin(theta_t) - 1.
+const PolyFit& fit_metal_hits();
 
 // One GGX lobe D about V of roughness `width` alpha_o / 2, times `scale`, fitted to the Beckmann
 // direction lobe p_o(theta') = exp(-x) / (pi alpha_o^2 cos^3), x = tan^2 theta' / alpha_o^2,

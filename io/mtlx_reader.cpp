@@ -39,7 +39,7 @@ const char* mtlx_type(ParamType t) {
     case ParamType::Color:
         return "color3";
     case ParamType::Enum:
-        return "string";
+        return "integer"; // an integer enum: enumvalues 0, 1, ... stand for the names
     case ParamType::Vector:
         return "vector3";
     case ParamType::Bool:
@@ -217,9 +217,25 @@ void set_param(const Reader& r, const pugi::xml_node& input, const ParamInfo& in
         break;
     }
     case ParamType::Enum: {
-        const int idx = enum_index(info, text);
-        if (idx < 0)
-            r.fail(input, "value \"" + text + "\" is not one of " + join(enum_values(info)));
+        // type="integer": the enum's value (0, 1, ...); type="string": its name, the form of
+        // documents written before the node's enums were integers.
+        const std::vector<std::string> names = enum_values(info);
+        std::string allowed;
+        for (size_t k = 0; k < names.size(); ++k)
+            allowed += (k ? ", " : "") + std::to_string(k) + " (" + names[k] + ")";
+        int idx = -1;
+        if (std::string(input.attribute("type").value()) == "string") {
+            idx = enum_index(info, text);
+            if (idx < 0)
+                r.fail(input, "value \"" + text + "\" is not one of " + join(names) +
+                                  " (or give type=\"integer\" with one of " + allowed + ")");
+        } else {
+            const std::string t = trim(text);
+            for (size_t k = 0; k < names.size(); ++k)
+                if (t == std::to_string(k)) idx = int(k);
+            if (idx < 0)
+                r.fail(input, "value \"" + text + "\" is not one of the integers " + allowed);
+        }
         *input_field<int>(p, name) = idx;
         break;
     }
@@ -266,7 +282,11 @@ void read_bsdf(const Reader& r, const MtlxDocument& doc, const pugi::xml_node& n
             r.fail(input, "unknown input of " + std::string(kMtlxNodeCategory) +
                               " (inputs: " + join(names) + ")");
         }
-        const std::string text = constant_value(r, input, mtlx_type(info->type));
+        // An enum also reads as its name with type="string" (set_param).
+        const bool legacyEnum = info->type == ParamType::Enum &&
+                                std::string(input.attribute("type").value()) == "string";
+        const std::string text =
+            constant_value(r, input, legacyEnum ? "string" : mtlx_type(info->type));
         check_colorspace_attribute(r, input);
         MtlxColorInput color;
         set_param(r, input, *info, text, m.params, color);

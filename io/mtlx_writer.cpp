@@ -48,7 +48,10 @@ std::string bsdf_inputs(const Params& p) {
             if (info.type == ParamType::Color)
                 out += input_line(info, "color3", num(v[0]) + ", " + num(v[1]) + ", " + num(v[2]));
         } else if constexpr (std::is_same_v<T, int>) {
-            out += input_line(info, "string", enum_values(info).at(size_t(v)));
+            // An integer enum (the nodedef's enumvalues 0, 1, ...), its name in a comment.
+            std::string line = input_line(info, "integer", std::to_string(v));
+            line.insert(line.size() - 1, " <!-- " + enum_values(info).at(size_t(v)) + " -->");
+            out += line;
         } else {
             out += input_line(info, "boolean", v ? "true" : "false");
         }

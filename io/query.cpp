@@ -224,9 +224,13 @@ std::string params_markdown() {
             range = "[0, 1] per channel";
             break;
         case ParamType::Enum:
-            type = "string (uniform)";
+            // Its names in JSON, the CLI and Python; in MaterialX an integer enum of the values
+            // in parentheses.
+            type = "enum (uniform)";
             def = enum_values(i).at(size_t(i.default_value[0]));
-            range = i.enum_values;
+            for (const std::string& name : enum_values(i))
+                range += (range.empty() ? "" : ", ") + name + " (" +
+                         std::to_string(enum_index(i, name)) + ")";
             break;
         case ParamType::Bool:
             type = "boolean (uniform)";

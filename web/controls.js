@@ -23,6 +23,12 @@ export function uniformValue(param, value) {
   }
 }
 
+// The MaterialX type of an input of the table: an enum (JSON type "string", its names in
+// `values`) is an integer enum in the nodedef, its value the index of the name.
+export function mtlxType(param) {
+  return param.type === 'string' ? 'integer' : param.type;
+}
+
 // A uniform value back in MaterialX's text form (for the exported document).
 export function valueString(param, u) {
   const num = (x) => String(Number(x.toPrecision(6)));
@@ -32,7 +38,7 @@ export function valueString(param, u) {
     case 'color3':
       return u.map(num).join(', ');
     case 'string':
-      return param.values[u];
+      return String(u);
     case 'boolean':
       return u ? 'true' : 'false';
     default:

@@ -7,7 +7,7 @@
 import { loadMaterialX, readDocument, generateEssl, exportDocument } from './mx.js';
 import { baselineShader, baselineUniforms, fitBaseline, raTableCsv } from './baseline.js';
 import { Renderer } from './renderer.js';
-import { buildControls, sceneControl, uniformValue, valueString } from './controls.js';
+import { buildControls, sceneControl, uniformValue, valueString, mtlxType } from './controls.js';
 
 const $ = (id) => document.getElementById(id);
 
@@ -234,7 +234,7 @@ async function exportMtlx() {
   for (const p of state.site.params) {
     if (!(p.name in state.values)) continue;
     values[p.name] = valueString(p, state.values[p.name]);
-    types[p.name] = p.type;
+    types[p.name] = mtlxType(p);
   }
   return exportDocument(state.m, state.found, values, types);
 }

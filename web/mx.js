@@ -82,6 +82,20 @@ function upstream(graph, input) {
   return name ? graph.getNode(name) : null;
 }
 
+// The node's enums are integer enums (enumvalues 0, 1, ...); a document written before gives
+// them as their names with type="string", as the C++ reader (io/mtlx_reader.cpp) also accepts:
+// such inputs become the integer their name stands for (an unknown name is left for
+// validation to report).
+function upgradeEnums(doc, bsdf) {
+  const nodedef = doc.getNodeDef('ND_' + NODE_CATEGORY);
+  for (const input of bsdf.getInputs()) {
+    const def = nodedef.getInput(input.getName());
+    if (!def || def.getType() !== 'integer' || input.getType() !== 'string') continue;
+    const k = def.getAttribute('enum').split(',').indexOf(input.getValueString());
+    if (k >= 0) input.setValueString(def.getAttribute('enumvalues').split(',')[k], 'integer');
+  }
+}
+
 // Reads `xml` (named `label` in messages) and finds the material to show: `materialName` or the
 // first whose surface shader's bsdf is the retroprism node. Throws an Error whose text names
 // the document and what is wrong.
@@ -106,6 +120,7 @@ export async function readDocument(m, xml, label, materialName = '') {
       problems.push(`material "${material.getName()}": its surface shader's bsdf is not a <${NODE_CATEGORY}> node`);
       continue;
     }
+    upgradeEnums(doc, bsdf);
     if (!doc.validate())
       throw new Error(`${label}: the document does not validate against the MaterialX libraries and rp_pbrlib`);
     return { xml, doc, material, surface, bsdf };

@@ -107,12 +107,14 @@ Doc valid_doc() {
         R"(    <input name="diffuse_color" type="color3" value="0.8, 0.6, 0.05"/>)",
         R"(    <input name="retro_color" type="color3" value="1, 0.75,0.08" colorspace="srgb_texture"/>)",
         R"(    <input name="specular" type="float" value="0.5"/>)",
-        R"(    <input name="prism_reflection" type="string" value="metallized"/>)",
+        R"(    <input name="prism_reflection" type="integer" value="2"/>)",
         R"(    <input name="metal_reflectance" type="float" value="0.9"/>)",
+        // An enum as its name (type="string"): the form of documents written before the
+        // node's enums were integer enums, still read.
         R"(    <input name="era_mode" type="string" value="oriented"/>)",
         R"(    <input name="orientation" type="float" value="30"/>)",
         R"(    <input name="cant_angle" type="float" value="-12.5"/>)",
-        R"(    <input name="retro_lobe" type="string" value="anisotropic"/>)",
+        R"(    <input name="retro_lobe" type="integer" value="1"/>)",
         R"(    <input name="reciprocal" type="boolean" value="true"/>)",
         R"(    <input name="weight" type="float" value="0.75"/>)",
         R"(    <input name="normal" type="vector3" value="0, 0, 1"/>)",
@@ -556,9 +558,29 @@ TEST_CASE("MaterialX reader: every unsupported construct names the element and i
         {"bad type",
          [](Doc& d) { d.replace(R"("roughness" type="float")", R"("roughness" type="color3")"); },
          R"(name="roughness")", input("roughness"), "type \"color3\", expected \"float\""},
-        {"bad enum", [](Doc& d) { d.replace(R"(value="oriented")", R"(value="sideways")"); },
+        {"bad enum name", [](Doc& d) { d.replace(R"(value="oriented")", R"(value="sideways")"); },
          R"(name="era_mode")", input("era_mode"),
-         "value \"sideways\" is not one of averaged, matched_pair, oriented"},
+         "value \"sideways\" is not one of averaged, matched_pair, oriented (or give "
+         "type=\"integer\" with one of 0 (averaged), 1 (matched_pair), 2 (oriented))"},
+        {"bad enum value",
+         [](Doc& d) {
+             d.replace(R"("prism_reflection" type="integer" value="2")",
+                       R"("prism_reflection" type="integer" value="3")");
+         },
+         R"(name="prism_reflection")", input("prism_reflection"),
+         "value \"3\" is not one of the integers 0 (ideal), 1 (tir), 2 (metallized)"},
+        {"enum name as an integer",
+         [](Doc& d) {
+             d.replace(R"("prism_reflection" type="integer" value="2")",
+                       R"("prism_reflection" type="integer" value="metallized")");
+         },
+         R"(name="prism_reflection")", input("prism_reflection"),
+         "value \"metallized\" is not one of the integers 0 (ideal), 1 (tir), 2 (metallized)"},
+        {"bad enum type",
+         [](Doc& d) {
+             d.replace(R"("retro_lobe" type="integer")", R"("retro_lobe" type="float")");
+         },
+         R"(name="retro_lobe")", input("retro_lobe"), "type \"float\", expected \"integer\""},
         {"bad boolean",
          [](Doc& d) { d.replace(R"(type="boolean" value="true")", R"(type="boolean" value="1")"); },
          R"(name="reciprocal")", input("reciprocal"), "is not a boolean"},

@@ -195,8 +195,8 @@ TEST_CASE("The portable implementation's R_A is within 15% for ideal prisms with
           "[backend]") {
     // The target of the portable implementation (docs/portable.md): R_A within 15% of the C++
     // reference at every standard entry. It holds where the graph's approximations hold: ideal
-    // prisms (the graph cannot read the string input prism_reflection, so uncoated prisms get
-    // ideal ones) and a retro lobe at least as wide as the table's largest observation angle,
+    // prisms (uncoated ones: the next test) and a retro lobe at least as wide as the table's
+    // largest observation angle,
     // 1.5 degrees (the GGX lobe that stands for the Beckmann one is fitted within 1/e of the
     // peak; beyond, its tails are far heavier). Of the bundled sheetings, that excludes the
     // DG983 preset (roughness 0.0078: alpha_o = 0.44 degrees at normal incidence).
@@ -215,6 +215,41 @@ TEST_CASE("The portable implementation's R_A is within 15% for ideal prisms with
                     "observation %.2f, entrance %.0f deg\n",
                     s.name.c_str(), 100 * d.max_abs, d.observation, d.entrance);
         CHECK(d.max_abs <= 0.15);
+        ++measured;
+    }
+    CHECK(measured >= 4);
+}
+
+TEST_CASE("The portable implementation's R_A of uncoated prisms (averaged ERA) is within 15% up "
+          "to 1 degree of observation",
+          "[backend]") {
+    // Uncoated prisms in the graph's ERA mode (averaged; the graph keeps it for every era_mode):
+    // its fit of E is within a few per cent where the sheeting plastics are (the [glsl] test of
+    // the fits), but E falls steeply with entrance once partial reflection sets in (about 6% per
+    // degree at 45 degrees with ior 1.49) and the graph evaluates it at the view direction, not
+    // at the light's: the table's largest observation angle, 1.5 degrees, adds about as much
+    // (docs/portable.md, "Known limits"). So the target is checked to 1 degree of observation,
+    // for the sheetings with wide lobes (the previous test's reason) and measured beyond.
+    int measured = 0;
+    for (const NamedMaterial& s : bundled_sheetings()) {
+        const Params& p = s.params;
+        const double alphaO = std::sqrt(2.0) * (p.ior - 1) * p.roughness; // normal incidence
+        if (p.prism_reflection != 1 || p.era_mode != 0 || alphaO < 1.5 * M_PI / 180) continue;
+        INFO(s.name);
+        const Params local = ra_params(p);
+        const RaDeviation d = ra_deviation(
+            ra_table(p, 0.0),
+            ra_table([&](const auto& dirs) { return backend_f("materialx-portable", local, dirs); },
+                     0.0));
+        double within1 = 0;
+        for (size_t i = 0; i < d.relative.size(); ++i)
+            if (ra_observation_angles()[i] <= 1.0)
+                for (double r : d.relative[i])
+                    within1 = std::max(within1, std::abs(r));
+        std::printf("MEASURED: materialx-portable, %s: largest R_A deviation %.1f%% to 1 degree "
+                    "of observation, %.1f%% in all (observation %.2f, entrance %.0f deg)\n",
+                    s.name.c_str(), 100 * within1, 100 * d.max_abs, d.observation, d.entrance);
+        CHECK(within1 <= 0.15);
         ++measured;
     }
     CHECK(measured >= 4);
