@@ -130,25 +130,22 @@ double check_error(const Piece& p, const Integral& f, const Values& floor) {
     return worst;
 }
 
-// Appends [lo, hi]'s series, halved until within tolerance; the largest error accepted, in
-// units of the tolerance, goes to worst.
+// Appends [lo, hi]'s series, halved until within tolerance or minWidth wide.
 void refine(double lo, double hi, double minWidth, const Integral& f, const Values& floor,
-            std::vector<Piece>& out, double& worst) {
+            std::vector<Piece>& out) {
     Piece p = fit(lo, hi, f);
-    const double err = check_error(p, f, floor);
-    if (err <= 1.0 || hi - lo <= minWidth) {
-        worst = std::max(worst, err);
+    if (check_error(p, f, floor) <= 1.0 || hi - lo <= minWidth) {
         out.push_back(p);
         return;
     }
     const double mid = 0.5 * (lo + hi);
-    refine(lo, mid, minWidth, f, floor, out, worst);
-    refine(mid, hi, minWidth, f, floor, out, worst);
+    refine(lo, mid, minWidth, f, floor, out);
+    refine(mid, hi, minWidth, f, floor, out);
 }
 
 } // namespace
 
-AzimuthSeries azimuth_series(const AzimuthAverage& a) {
+std::vector<double> azimuth_series(const AzimuthAverage& a) {
     const Integral f{a, a.hits ? 2 : 1};
     std::vector<double> ends = {0.0};
     for (double t : structure_changes(f, a.t_end))
@@ -162,17 +159,14 @@ AzimuthSeries azimuth_series(const AzimuthAverage& a) {
     }
     const Values floor = {kFloorTolerance * largest[0], kFloorTolerance * largest[1]};
     std::vector<Piece> pieces;
-    AzimuthSeries s;
     for (size_t i = 0; i + 1 < ends.size(); ++i)
-        refine(ends[i], ends[i + 1], kMinWidth * a.t_end, f, floor, pieces, s.max_check_error);
-    s.data.push_back(double(pieces.size()));
-    s.data.push_back(double(f.functions));
-    s.data.push_back(pieces.front().lo);
+        refine(ends[i], ends[i + 1], kMinWidth * a.t_end, f, floor, pieces);
+    std::vector<double> s = {double(pieces.size()), double(f.functions), pieces.front().lo};
     for (const Piece& p : pieces)
-        s.data.push_back(p.hi);
+        s.push_back(p.hi);
     for (const Piece& p : pieces)
         for (size_t q = 0; q < size_t(f.functions); ++q)
-            s.data.insert(s.data.end(), p.c[q].begin(), p.c[q].end());
+            s.insert(s.end(), p.c[q].begin(), p.c[q].end());
     return s;
 }
 

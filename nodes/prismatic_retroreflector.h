@@ -161,14 +161,9 @@ struct AzimuthAverage {
 // That average as the piecewise Chebyshev series rp_material::azimuth_series points to (layout:
 // rp_azimuth_series, prism_core.inc), interpolating rp_azimuth_average at the points between
 // each interval's nodes to within 1e-8 of the interval's largest value or 1e-11 of the
-// function's largest, whichever is more (nodes/azimuth_series.cpp; a few ms to make).
-struct AzimuthSeries {
-    std::vector<double> data;
-    // The largest error at the check points in units of the tolerance (above 1 only where an
-    // interval reached the narrowest width allowed).
-    double max_check_error = 0.0;
-};
-AzimuthSeries azimuth_series(const AzimuthAverage& average);
+// function's largest, whichever is more, but where an interval reached the narrowest width
+// allowed (nodes/azimuth_series.cpp; 0.3-50 ms to make).
+std::vector<double> azimuth_series(const AzimuthAverage& average);
 
 // The indices of refraction below which canted prisms keep integrating: t_end = 1 / sqrt(eta^2
 // - 1), the largest tan(theta_t) of light refracted from outside, grows without bound as eta
@@ -202,7 +197,7 @@ auto attach_azimuth_series(Material& m) {
     faces.face_xy = glm::dvec3(m.face_xy);
     faces.face_phi = glm::dvec3(m.face_phi);
     f64::rp_average_faces(faces, a.face_z, a.face_xy, a.face_phi, a.phi_end);
-    const std::vector<double> s = azimuth_series(a).data;
+    const std::vector<double> s = azimuth_series(a);
     series = std::make_shared<const std::vector<R>>(s.begin(), s.end());
     m.azimuth_series = series->data();
     return series;

@@ -2628,6 +2628,32 @@ rp_breaks rp_azimuth_breaks(vec3 faceZ, vec3 faceXY, vec3 facePhi, float phiEnd,
     return b;
 }
 
+// The faces (e_k.z, |e_k.xy|, azimuths) and the azimuth range of the paper's cube's averages:
+// the faces at the vertex azimuths 0 and +-2 pi / 3, over a sixth of a turn (the cube is
+// three-fold and mirror-symmetric).
+void rp_paper_faces(out vec3 faceZ, out vec3 faceXY, out vec3 facePhi,
+                          out float phiEnd) {
+    float third = float(2.0) * RP_PI / float(3.0);
+    faceZ = vec3(RP_INV_SQRT3);
+    faceXY = vec3(RP_SQRT2_3);
+    facePhi = vec3(float(0.0), third, -third);
+    phiEnd = RP_PI / float(3.0);
+}
+
+// The faces and the azimuth range whose average rp_retro_passed_s integrates
+// (rp_azimuth_average): the paper's cube's, or a canted one's over half a turn (mirror-symmetric
+// about the azimuth 0).
+void rp_average_faces(in rp_material m, out vec3 faceZ, out vec3 faceXY,
+                            out vec3 facePhi, out float phiEnd) {
+    rp_paper_faces(faceZ, faceXY, facePhi, phiEnd);
+    if (m.canted != 0) {
+        faceZ = m.face_z;
+        faceXY = m.face_xy;
+        facePhi = m.face_phi;
+        phiEnd = RP_PI;
+    }
+}
+
 // Azimuth averages at t = tan(theta_t) for a prism whose faces have e_k.z = faceZ,
 // |e_k.xy| = faceXY at azimuths facePhi, over [0, phiEnd]: pi for a prism mirror-symmetric about
 // the azimuth 0, pi / 3 for the paper's cube (also three-fold). x: the ERA A, times the uncoated
@@ -2697,22 +2723,28 @@ vec2 rp_azimuth_average(vec3 faceZ, vec3 faceXY, vec3 facePhi, float phiEnd, flo
 // prisms (tir = true) at t = tan(theta_t), to within 1e-6 (tests/test_physics.cpp compares it
 // with midpoint rules of 1e5 and 2e5 points checked by halving); 0 beyond
 // t = RP_ERA_TAN_MAX (theta_t > 54.74 deg, where some m_k <= 0 at every azimuth). The faces
-// lie at the vertex azimuths 0 and +-2 pi / 3.
+// are rp_paper_faces'.
 float rp_retro_fraction_averaged_exact(float tanThetaT, float eta, bool tir) {
     float t = max(tanThetaT, float(0.0));
     if (!(t < RP_ERA_TAN_MAX)) return float(0.0);
-    float third = float(2.0) * RP_PI / float(3.0);
-    return rp_azimuth_average(vec3(RP_INV_SQRT3), vec3(RP_SQRT2_3), vec3(float(0.0), third, -third),
-                              RP_PI / float(3.0), t, eta, tir, false)
-        .x;
+    vec3 faceZ;
+    vec3 faceXY;
+    vec3 facePhi;
+    float phiEnd;
+    rp_paper_faces(faceZ, faceXY, facePhi, phiEnd);
+    return rp_azimuth_average(faceZ, faceXY, facePhi, phiEnd, t, eta, tir, false).x;
 }
 
 
 // The paper's cube's azimuth average of sum_k H_k at t = tan(theta_t) (generates its table).
 float rp_metal_hits_paper_direct(float tanThetaT) {
-    float third = float(2.0) * RP_PI / float(3.0);
-    return rp_azimuth_average(vec3(RP_INV_SQRT3), vec3(RP_SQRT2_3), vec3(float(0.0), third, -third),
-                              RP_PI / float(3.0), max(tanThetaT, float(0.0)), float(1.0), false, true)
+    vec3 faceZ;
+    vec3 faceXY;
+    vec3 facePhi;
+    float phiEnd;
+    rp_paper_faces(faceZ, faceXY, facePhi, phiEnd);
+    return rp_azimuth_average(faceZ, faceXY, facePhi, phiEnd, max(tanThetaT, float(0.0)), float(1.0),
+                              false, true)
         .y;
 }
 
@@ -2729,24 +2761,6 @@ float rp_metal_hits_paper(float tanThetaT) {
 // substrate (passed: 1 - E, or what metallized prisms pass on) for the mean refracted direction d,
 // sin(theta_t) = |d.xy|, in the node's ERA mode. The averaged mode reads the paper's cube's
 // tables where they serve and calls rp_azimuth_average (once) for the rest.
-// The faces (e_k.z, |e_k.xy|, azimuths) and the azimuth range whose average rp_retro_passed_s
-// integrates (rp_azimuth_average): the paper's cube over a sixth of a turn, a canted one over
-// half a turn (mirror-symmetric about the azimuth 0).
-void rp_average_faces(in rp_material m, out vec3 faceZ, out vec3 faceXY,
-                            out vec3 facePhi, out float phiEnd) {
-    float third = float(2.0) * RP_PI / float(3.0);
-    faceZ = vec3(RP_INV_SQRT3);
-    faceXY = vec3(RP_SQRT2_3);
-    facePhi = vec3(float(0.0), third, -third);
-    phiEnd = RP_PI / float(3.0);
-    if (m.canted != 0) {
-        faceZ = m.face_z;
-        faceXY = m.face_xy;
-        facePhi = m.face_phi;
-        phiEnd = RP_PI;
-    }
-}
-
 void rp_retro_passed_s(in rp_material m, vec3 d, float sinThetaT, out float era,
                                  out float passed) {
     era = float(0.0);
