@@ -39,10 +39,9 @@ inline __attribute__((always_inline)) void run(const Job& job, std::size_t n) {
         run(job, n);                                                                               \
     }
 RP_MRM_ISA(mrm_baseline, )
-RP_MRM_ISA(mrm_sse42, __attribute__((target("sse4.2,popcnt"))))
-RP_MRM_ISA(mrm_avx2, __attribute__((target("avx2,fma,bmi,bmi2,popcnt"))))
-RP_MRM_ISA(mrm_avx512,
-           __attribute__((target("avx512f,avx512vl,avx512bw,avx512dq,avx2,fma,bmi,bmi2,popcnt"))))
+RP_MRM_ISA(mrm_sse42, RP_TARGET_SSE42)
+RP_MRM_ISA(mrm_avx2, RP_TARGET_AVX2)
+RP_MRM_ISA(mrm_avx512, RP_TARGET_AVX512)
 #undef RP_MRM_ISA
 
 } // namespace

@@ -231,10 +231,9 @@ struct Kernels {
         NAME<Kind::Sample, Mode::General>};
 
 RP_BATCH_ISA(block_baseline, )
-RP_BATCH_ISA(block_sse42, __attribute__((target("sse4.2,popcnt"))))
-RP_BATCH_ISA(block_avx2, __attribute__((target("avx2,fma,bmi,bmi2,popcnt"))))
-RP_BATCH_ISA(block_avx512,
-             __attribute__((target("avx512f,avx512vl,avx512bw,avx512dq,avx2,fma,bmi,bmi2,popcnt"))))
+RP_BATCH_ISA(block_sse42, RP_TARGET_SSE42)
+RP_BATCH_ISA(block_avx2, RP_TARGET_AVX2)
+RP_BATCH_ISA(block_avx512, RP_TARGET_AVX512)
 #undef RP_BATCH_ISA
 #undef RP_BATCH_MODES
 

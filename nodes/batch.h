@@ -22,6 +22,13 @@ namespace retroprism {
 
 // Instruction sets of the batch kernels, in increasing order.
 enum class SimdLevel { Baseline = 0, Sse42 = 1, Avx2 = 2, Avx512 = 3 };
+// GCC's target attributes of the levels above baseline, the features simd_level_supported()
+// tests: what a kernel compiled for that level may use (nodes/batch.cpp, and kernels built the
+// same way elsewhere, such as bench/batch_baseline.cpp's).
+#define RP_TARGET_SSE42 __attribute__((target("sse4.2,popcnt")))
+#define RP_TARGET_AVX2 __attribute__((target("avx2,fma,bmi,bmi2,popcnt")))
+#define RP_TARGET_AVX512                                                                           \
+    __attribute__((target("avx512f,avx512vl,avx512bw,avx512dq,avx2,fma,bmi,bmi2,popcnt")))
 // The best level this CPU runs.
 SimdLevel simd_level_supported();
 // "baseline", "sse4.2", "avx2", "avx512".
