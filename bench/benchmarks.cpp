@@ -166,21 +166,20 @@ void bm_baseline(benchmark::State& state, B model) {
     state.SetItemsProcessed(int64_t(state.iterations()) * kPairs);
 }
 
-// The direction pairs (and random numbers for sample) as structure-of-arrays batches.
+// The direction pairs and the random numbers for sample of the scalar float rows (Prepared), as
+// structure-of-arrays batches.
 struct BatchPairs {
     std::vector<float> a[9];    // wi, wo, u
     std::vector<float> out[14]; // 9 lobe channels, pdf, sampled direction (3)
     std::vector<int> lobe;
     BatchPairs() {
-        std::uint64_t state = 99;
-        for (const Pair& q : pairs()) {
+        const Prepared<Float> scalar{Params()};
+        for (size_t i = 0; i < scalar.wi.size(); ++i)
             for (int c = 0; c < 3; ++c) {
-                a[c].push_back(float(q.wi[c]));
-                a[3 + c].push_back(float(q.wo[c]));
-                state = state * 6364136223846793005ull + 1442695040888963407ull;
-                a[6 + c].push_back(float(double(state >> 11) * 0x1.0p-53));
+                a[c].push_back(scalar.wi[i][c]);
+                a[3 + c].push_back(scalar.wo[i][c]);
+                a[6 + c].push_back(scalar.u[i][c]);
             }
-        }
         for (auto& v : out)
             v.assign(pairs().size(), 0.0f);
         lobe.assign(pairs().size(), 0);
