@@ -206,11 +206,13 @@ double node_era(const PrismaticRetroreflector<double>& node, double eta, double 
     return node.retro_fraction({s, 0.0, std::sqrt(1 - s * s)});
 }
 
+// Integrating its azimuth averages: a fit reads each node at a few hundred directions.
 PrismaticRetroreflector<double> prism_node(double eta, int prismReflection) {
     Params p;
     p.ior = eta;
     p.prism_reflection = prismReflection;
-    return PrismaticRetroreflector<double>(p);
+    return PrismaticRetroreflector<double>(p,
+                                           PrismaticRetroreflector<double>::Averages::Integrated);
 }
 
 } // namespace
