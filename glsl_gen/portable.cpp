@@ -147,11 +147,6 @@ std::vector<double> grid(double lo, double hi, int n) {
 
 const std::vector<PortableException>& portable_exceptions() {
     static const std::vector<PortableException> list = {
-        {"era_mode", "the graph keeps the azimuth-averaged ERA (averaged): matched_pair and "
-                     "oriented depend on the prisms' azimuth, which its fits of the ERA do not "
-                     "have"},
-        {"orientation", "the prisms' azimuth matters only for era_mode matched_pair and oriented"},
-        {"tangent", "the reference azimuth of orientation (see orientation)"},
         {"retro_lobe",
          "the graph keeps the isotropic lobe: the anisotropic lobe's widths along and "
          "across the plane of incidence would need an anisotropic GGX lobe about V "
@@ -368,6 +363,21 @@ class Graph {
     Val max(const Val& a, const Val& b) { return op("max", a, b); }
     Val min(const Val& a, const Val& b) { return op("min", a, b); }
     Val sqrt(const Val& a) { return node("sqrt", a.type, {{"in", a}}); }
+    Val fn(const std::string& category, const Val& a) {
+        return node(category, a.type, {{"in", a}});
+    }
+    Val dot(const Val& a, const Val& b) {
+        return node("dotproduct", "float", {{"in1", a}, {"in2", b}});
+    }
+    // in1 where value1 >= value2, else in2.
+    Val if_ge(const Val& value1, const Val& value2, const Val& in1, const Val& in2) {
+        return node("ifgreatereq", in1.type,
+                    {{"value1", value1}, {"value2", value2}, {"in1", in1}, {"in2", in2}});
+    }
+    Val extract(const Val& a, int index) {
+        return node("extract", "float",
+                    {{"in", a}, {"index", {"integer", "value", std::to_string(index)}}});
+    }
     Val clamp(const Val& a, double lo, double hi) {
         return node("clamp", a.type, {{"in", a}, {"low", f(lo)}, {"high", f(hi)}});
     }
@@ -445,6 +455,140 @@ void check_coverage(const Graph& g) {
                                  "' is not an input of the parameter table");
 }
 
+// in1 of an integer enum input equal to value, else in2 (the standard node ifequal).
+Val choose_enum(Graph& g, const Val& input, int value, const Val& yes, const Val& no) {
+    return g.node("ifequal", "float",
+                  {{"value1", input},
+                   {"value2", {"integer", "value", std::to_string(value)}},
+                   {"in1", yes},
+                   {"in2", no}});
+}
+
+// What the prisms return (E) and what passes on to the substrate.
+struct PrismShare {
+    Val era, passed;
+};
+
+// The shading point's values the prisms' closed forms read.
+struct Sheet {
+    Val n, v, eta, eta2, gEta, metal, metal2, prism;
+};
+
+// Internal Fresnel reflectance of an uncoated prism face at `cosine` (rp_fresnel_internal): 1
+// beyond the critical angle.
+Val fresnel_internal(Graph& g, const Val& cosine, const Val& eta, const Val& eta2) {
+    Val eta2m1 = g.sub(eta2, Graph::f(1));
+    Val ck = g.clamp(cosine, 0, 1);
+    Val ck2 = g.mul(ck, ck);
+    Val sin2T = g.mul(g.sub(Graph::f(1), ck2), eta2);
+    Val cosT = g.sqrt(g.max(g.sub(Graph::f(1), sin2T), Graph::f(0)));
+    Val ds = g.add(g.mul(eta, ck), cosT);
+    Val dp = g.add(ck, g.mul(eta, cosT));
+    Val rs = g.div(eta2m1, g.max(g.mul(ds, ds), Graph::f(1e-30)));
+    Val rp = g.div(g.mul(eta2m1, g.sub(eta2, g.mul(ck2, g.add(eta2, Graph::f(1))))),
+                   g.max(g.mul(dp, dp), Graph::f(1e-30)));
+    Val fr = g.clamp(g.mul(Graph::f(0.5), g.add(g.mul(rs, rs), g.mul(rp, rp))), 0, 1);
+    return g.if_ge(sin2T, Graph::f(1), Graph::f(1), fr);
+}
+
+// era_mode oriented and matched_pair: E of the prisms at their azimuth in closed form, and the
+// substrate's share; {oriented, matched pair}.
+std::pair<PrismShare, PrismShare> prisms_at_azimuth(Graph& g, const Sheet& s) {
+    const Val& n = s.n;
+    const Val& v = s.v;
+    const Val& eta = s.eta;
+    const Val& eta2 = s.eta2;
+    const Val& metal = s.metal;
+    const Val& metal2 = s.metal2;
+    g.comment("era_mode matched_pair and oriented: E of the prisms at their orientation in closed "
+              "form (MODEL.md sections 2 and 8, prism_core.inc's rp_era_canted, "
+              "rp_face_reflectances_tir and rp_metal_passed_oriented), for the direction refracted "
+              "from V, in the frame of the normal and the tangent");
+    Val tangent = g.input("tangent", "vector3");
+    Val tp = g.sub(tangent, g.mul(n, g.dot(tangent, n)));
+    Val nx = g.extract(n, 0);
+    Val ny = g.extract(n, 1);
+    Val nz = g.extract(n, 2);
+    g.comment(
+        "A tangent along the normal, or zero: the orthogonal unit vector of Duff et al. 2017");
+    Val sgn = g.if_ge(nz, Graph::f(0), Graph::f(1), Graph::f(-1));
+    Val duffA = g.div(Graph::f(-1), g.add(sgn, nz));
+    Val duff = g.node("combine3", "vector3",
+                      {{"in1", g.add(Graph::f(1), g.mul(g.mul(sgn, g.mul(nx, nx)), duffA))},
+                       {"in2", g.mul(sgn, g.mul(g.mul(nx, ny), duffA))},
+                       {"in3", g.mul(g.mul(sgn, nx), Graph::f(-1))}});
+    Val ft = g.if_ge(g.mul(g.dot(tangent, tangent), Graph::f(1e-12)), g.dot(tp, tp), duff,
+                     g.node("normalize", "vector3", {{"in", tp}}));
+    Val fb = g.node("crossproduct", "vector3", {{"in1", n}, {"in2", ft}});
+    Val minusInvEta = g.div(Graph::f(-1), eta);
+    Val dx = g.mul(g.dot(v, ft), minusInvEta);
+    Val dy = g.mul(g.dot(v, fb), minusInvEta);
+    Val dz = g.mul(s.gEta, minusInvEta);
+    g.comment("Face normals e_k of the cube at cant_angle, turned by orientation: e_1.xy along the "
+              "orientation's vertex, e_2 and e_3 at +-phi2 from it (rp_prepare)");
+    const double degree = f64::RP_PI / 180;
+    Val rot = g.mul(float_input(g, "orientation"), Graph::f(degree));
+    Val cantRad = g.mul(float_input(g, "cant_angle"), Graph::f(degree));
+    Val cosCant = g.fn("cos", cantRad);
+    Val sinCant = g.fn("sin", cantRad);
+    Val z1 = g.add(g.mul(cosCant, Graph::f(f64::RP_INV_SQRT3)),
+                   g.mul(sinCant, Graph::f(2 * f64::RP_INV_SQRT6)));
+    Val z2 = g.sub(g.mul(cosCant, Graph::f(f64::RP_INV_SQRT3)),
+                   g.mul(sinCant, Graph::f(f64::RP_INV_SQRT6)));
+    Val xy1 = g.sqrt(g.max(g.sub(Graph::f(1), g.mul(z1, z1)), Graph::f(0)));
+    Val xy2 = g.sqrt(g.max(g.sub(Graph::f(1), g.mul(z2, z2)), Graph::f(0)));
+    Val cosPhi2 = g.clamp(g.div(g.mul(g.mul(z1, z2), Graph::f(-1)), g.mul(xy1, xy2)), -1.0, 1.0);
+    Val phi2Acos = g.fn("acos", cosPhi2);
+    g.comment("One Newton step on cos(phi2) after acos, as rp_prepare (a shader's acos may be a "
+              "polynomial good to 1e-4)");
+    Val phi2 = g.add(phi2Acos, g.div(g.sub(g.fn("cos", phi2Acos), cosPhi2), g.fn("sin", phi2Acos)));
+    struct Face {
+        Val z, along; // e_k.z and e_k.xy . d.xy
+    };
+    auto face = [&](const Val& xy, const Val& z, const Val& angle) {
+        return Face{z,
+                    g.mul(xy, g.add(g.mul(dx, g.fn("cos", angle)), g.mul(dy, g.fn("sin", angle))))};
+    };
+    const Face faces[3] = {face(xy1, z1, rot), face(xy2, z2, g.add(rot, phi2)),
+                           face(xy2, z2, g.sub(rot, phi2))};
+    Val metal3 = g.mul(metal2, metal);
+    // One orientation: the prism itself (sign 1) or its matched partner turned by 180 degrees
+    // (sign -1: d.xy reversed). m_k = 2 e_k.z (d.e_k) / d.z, l_k = 1 - m_k; A = 1 - sum_k l_k
+    // |l_k| when every l_k < 1, else 0.
+    auto prismAt = [&](double sign) {
+        Val m[3], l[3], r = Graph::f(1), sum = Graph::f(0), lmax = Graph::f(-1e30);
+        for (int k = 0; k < 3; ++k) {
+            Val along = faces[k].along;
+            Val de = g.add(g.mul(dz, faces[k].z), sign > 0 ? along : g.mul(along, Graph::f(-1)));
+            m[k] = g.div(g.mul(g.mul(faces[k].z, Graph::f(2)), de), dz);
+            l[k] = g.sub(Graph::f(1), m[k]);
+            sum = g.add(sum, g.mul(l[k], g.fn("absval", l[k])));
+            lmax = g.max(lmax, l[k]);
+            r = g.mul(r, fresnel_internal(g, g.fn("absval", de), eta, eta2));
+        }
+        Val a = g.if_ge(lmax, Graph::f(1), Graph::f(0), g.clamp(g.sub(Graph::f(1), sum), 0, 1));
+        Val faceHits = Graph::f(0);
+        for (int k = 0; k < 3; ++k) {
+            Val sk = g.add(g.max(l[(k + 1) % 3], Graph::f(0)), g.max(l[(k + 2) % 3], Graph::f(0)));
+            Val gk = g.if_ge(Graph::f(1), sk, g.sub(Graph::f(1), g.mul(sk, Graph::f(0.5))),
+                             g.div(Graph::f(0.5), sk));
+            faceHits = g.add(faceHits, g.if_ge(Graph::f(0), m[k], Graph::f(0),
+                                               g.mul(g.mul(m[k], Graph::f(2)), gk)));
+        }
+        Val p2k = g.sub(g.sub(faceHits, Graph::f(1)), g.mul(a, Graph::f(2)));
+        Val p1k = g.sub(g.sub(Graph::f(1), a), p2k);
+        Val passedMetalK = g.max(g.add(g.mul(metal, p1k), g.mul(metal2, p2k)), Graph::f(0));
+        Val e = choose_enum(g, s.prism, 1, g.mul(a, r),
+                            choose_enum(g, s.prism, 2, g.mul(a, metal3), a));
+        return PrismShare{e, choose_enum(g, s.prism, 2, passedMetalK, g.sub(Graph::f(1), e))};
+    };
+    const PrismShare oriented = prismAt(1);
+    const PrismShare partner = prismAt(-1);
+    Val eraPair = g.mul(g.add(oriented.era, partner.era), Graph::f(0.5));
+    Val passedPair = g.mul(g.add(oriented.passed, partner.passed), Graph::f(0.5));
+    return {oriented, {eraPair, passedPair}};
+}
+
 } // namespace
 
 std::string generate_portable_nodegraph() {
@@ -498,14 +642,20 @@ std::string generate_portable_nodegraph() {
               "fraction that reaches the substrate");
     Val prism = g.input("prism_reflection", "integer");
     auto choose = [&](int value, const Val& yes, const Val& no) {
-        return g.node("ifequal", "float",
-                      {{"value1", prism},
-                       {"value2", {"integer", "value", std::to_string(value)}},
-                       {"in1", yes},
-                       {"in2", no}});
+        return choose_enum(g, prism, value, yes, no);
     };
-    Val era = choose(1, eraTir, choose(2, eraMetal, area));
-    Val passed = choose(2, passedMetal, g.sub(Graph::f(1), era));
+    Val eraAveraged = choose(1, eraTir, choose(2, eraMetal, area));
+    Val passedAveraged = choose(2, passedMetal, g.sub(Graph::f(1), eraAveraged));
+    const auto [oriented, pair] =
+        prisms_at_azimuth(g, {n, v, eta, eta2, gEta, metal, metal2, prism});
+    g.comment("era_mode (an integer enum: 0 averaged, 1 matched_pair, 2 oriented; another value "
+              "counts as averaged, the node's default) chooses E and the substrate's fraction");
+    Val eraMode = g.input("era_mode", "integer");
+    auto chooseMode = [&](int value, const Val& yes, const Val& no) {
+        return choose_enum(g, eraMode, value, yes, no);
+    };
+    Val era = chooseMode(1, pair.era, chooseMode(2, oriented.era, eraAveraged));
+    Val passed = chooseMode(1, pair.passed, chooseMode(2, oriented.passed, passedAveraged));
     g.comment("Surface lobe: dielectric_bsdf, GGX of the Beckmann roughness");
     Val alpha = g.max(float_input(g, "roughness"), Graph::f(minAlpha));
     Val alpha2 = g.node("combine2", "vector2", {{"in1", alpha}, {"in2", alpha}});

@@ -14,9 +14,13 @@
 //            lobe (fit_retro_lobe);
 //   diffuse  oren_nayar_diffuse_bsdf (roughness 0: Lambert) of colour
 //            k_d T(cos_v)^2 (1 - E) / (eta^2 (1 - k_d F_dr(eta))).
-// E is the azimuth-averaged ERA of ideal prisms as a polynomial in (sin theta_t, cant_angle)
-// and F_dr(eta) a polynomial in eta, both least-squares fits of the C++ model made when the
-// graph is generated (fit_era, fit_fdr); T is the exact Fresnel transmittance, as nodes.
+// With era_mode averaged, E is the azimuth-averaged ERA of ideal prisms as a polynomial in
+// (sin theta_t, cant_angle) (times fits for uncoated and metallised prisms, below), and F_dr(eta)
+// a polynomial in eta, least-squares fits of the C++ model made when the graph is generated
+// (fit_era, fit_fdr); with matched pairs and single orientations, E is the node's closed form for
+// the prisms at their azimuth (the direction refracted from V in the frame of the normal and
+// tangent, the cube's faces at cant_angle turned by orientation). T is the exact Fresnel
+// transmittance, as nodes.
 #pragma once
 
 #include <string>

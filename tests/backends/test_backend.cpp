@@ -191,50 +191,27 @@ TEST_CASE("Every input but the listed exceptions changes the portable implementa
                 backend.c_str(), inputs, param_table().size(), excepted);
 }
 
-TEST_CASE("The portable implementation's R_A is within 15% for ideal prisms with wide lobes",
+TEST_CASE("The portable implementation's R_A is within 15% up to 1 degree of observation for "
+          "the sheetings with wide lobes",
           "[backend]") {
     // The target of the portable implementation (docs/portable.md): R_A within 15% of the C++
-    // reference at every standard entry. It holds where the graph's approximations hold: ideal
-    // prisms (uncoated ones: the next test) and a retro lobe at least as wide as the table's
-    // largest observation angle,
-    // 1.5 degrees (the GGX lobe that stands for the Beckmann one is fitted within 1/e of the
-    // peak; beyond, its tails are far heavier). Of the bundled sheetings, that excludes the
-    // DG983 preset (roughness 0.0078: alpha_o = 0.44 degrees at normal incidence).
+    // reference at every standard entry, for the bundled sheetings with ideal prisms, with
+    // uncoated prisms in their own ERA mode (matched pairs: the graph's closed form) and with
+    // uncoated prisms and the averaged ERA (the graph's fit). It holds where the graph's
+    // approximations hold: a retro lobe at least as wide as the table's largest observation
+    // angle, 1.5 degrees (the GGX lobe that stands for the Beckmann one is fitted within 1/e of
+    // the peak; beyond, its tails are far heavier), which excludes the DG983 preset (roughness
+    // 0.0078: alpha_o = 0.44 degrees at normal incidence); and observation angles up to 1
+    // degree. The graph evaluates E and the cosine at the view direction, not at the light's:
+    // at entrance 45 degrees E falls 3.4% per degree (ideal prisms) to 6.9% (uncoated,
+    // averaged), so the table's 1.5 degrees adds 5% to 10% to the lobe fit's 3% and the other
+    // factors taken at V (docs/portable.md, "Known limits"): there the test guards the measured
+    // state (largest 19.9%, uncoated prisms averaged) at 20%, not the target.
     int measured = 0;
     for (const NamedMaterial& s : bundled_sheetings()) {
         const Params& p = s.params;
         const double alphaO = std::sqrt(2.0) * (p.ior - 1) * p.roughness; // normal incidence
-        if (p.prism_reflection != 0 || alphaO < 1.5 * M_PI / 180) continue;
-        INFO(s.name);
-        const Params local = ra_params(p);
-        const RaTable ref = ra_table(p, 0.0);
-        const RaTable got = ra_table(
-            [&](const auto& dirs) { return backend_f("materialx-portable", local, dirs); }, 0.0);
-        const RaDeviation d = ra_deviation(ref, got);
-        std::printf("MEASURED: materialx-portable, %s: largest R_A deviation %.1f%% at "
-                    "observation %.2f, entrance %.0f deg\n",
-                    s.name.c_str(), 100 * d.max_abs, d.observation, d.entrance);
-        CHECK(d.max_abs <= 0.15);
-        ++measured;
-    }
-    CHECK(measured >= 4);
-}
-
-TEST_CASE("The portable implementation's R_A of uncoated prisms (averaged ERA) is within 15% up "
-          "to 1 degree of observation",
-          "[backend]") {
-    // Uncoated prisms in the graph's ERA mode (averaged; the graph keeps it for every era_mode):
-    // its fit of E is within a few per cent where the sheeting plastics are (the [glsl] test of
-    // the fits), but E falls steeply with entrance once partial reflection sets in (about 6% per
-    // degree at 45 degrees with ior 1.49) and the graph evaluates it at the view direction, not
-    // at the light's: the table's largest observation angle, 1.5 degrees, adds about as much
-    // (docs/portable.md, "Known limits"). So the target is checked to 1 degree of observation,
-    // for the sheetings with wide lobes (the previous test's reason) and measured beyond.
-    int measured = 0;
-    for (const NamedMaterial& s : bundled_sheetings()) {
-        const Params& p = s.params;
-        const double alphaO = std::sqrt(2.0) * (p.ior - 1) * p.roughness; // normal incidence
-        if (p.prism_reflection != 1 || p.era_mode != 0 || alphaO < 1.5 * M_PI / 180) continue;
+        if (alphaO < 1.5 * M_PI / 180) continue;
         INFO(s.name);
         const Params local = ra_params(p);
         const RaDeviation d = ra_deviation(
@@ -250,7 +227,79 @@ TEST_CASE("The portable implementation's R_A of uncoated prisms (averaged ERA) i
                     "of observation, %.1f%% in all (observation %.2f, entrance %.0f deg)\n",
                     s.name.c_str(), 100 * within1, 100 * d.max_abs, d.observation, d.entrance);
         CHECK(within1 <= 0.15);
+        CHECK(d.max_abs <= 0.20);
         ++measured;
     }
-    CHECK(measured >= 4);
+    CHECK(measured >= 15);
+}
+
+TEST_CASE("The portable implementation's E of matched pairs and single prisms is the node's at "
+          "the retro peak",
+          "[backend]") {
+    // At wi = wo every factor the graph evaluates at V is the node's at wi, so between two
+    // materials that differ only in prism_reflection and era_mode the graph's retro and diffuse
+    // lobes must change as the node's do. Normalised by the same material with ideal prisms, the
+    // averaged ERA and no cant (the graph's fit of A), the ratio portable / node of the
+    // matched-pair and single-prism E (closed form in the graph) is 1 to the normaliser's fit
+    // error and single-precision rounding: any error in the frame, the prisms' orientation, the
+    // cant's face normals, the faces' Fresnel or the metallised substrate term shows as a ratio
+    // off 1. Tolerance 1%: the fit of A is within 0.014 absolute over every cant, and within
+    // 0.5% relative of A and 0.8% of 1 - A at these angles without cant (measured: the ratios of
+    // the cant-0 materials, whose E is the normaliser's own A in the ideal averaged case).
+    std::vector<DirectionPair> pairs;
+    for (double theta : {8.0, 25.0, 40.0})
+        for (double phi : {0.0, 50.0, 100.0, 215.0, 300.0}) {
+            const double t = theta * M_PI / 180, f = phi * M_PI / 180;
+            const std::array<double, 3> w{std::sin(t) * std::cos(f), std::sin(t) * std::sin(f),
+                                          std::cos(t)};
+            pairs.push_back({w, w});
+        }
+    double worst = 0;
+    int compared = 0;
+    for (double cant : {0.0, -11.0, 20.0})
+        for (double orientation : {0.0, 37.0})
+            for (int prism : {0, 1, 2}) {
+                Params base;
+                base.roughness = 0.1;
+                base.ior = 1.49;
+                base.cant_angle = cant;
+                base.orientation = orientation;
+                base.metal_reflectance = 0.8;
+                Params norm = base;
+                norm.era_mode = 0;
+                norm.prism_reflection = 0;
+                norm.cant_angle = 0;
+                const auto refNorm = evaluate_node<double>(norm, pairs);
+                const auto gotNorm = backend("materialx-portable").evaluate(norm, pairs);
+                for (int mode : {1, 2}) {
+                    Params p = base;
+                    p.era_mode = mode;
+                    p.prism_reflection = prism;
+                    const auto ref = evaluate_node<double>(p, pairs);
+                    const auto got = backend("materialx-portable").evaluate(p, pairs);
+                    for (size_t i = 0; i < pairs.size(); ++i) {
+                        INFO("cant " << cant << ", orientation " << orientation << ", prism "
+                                     << prism << ", era_mode " << mode << ", pair " << i);
+                        const double n = gotNorm[i].retro[0] / refNorm[i].retro[0];
+                        const double nd = gotNorm[i].diffuse[0] / refNorm[i].diffuse[0];
+                        // E below 1% of the ideal average: the ratio of two small numbers.
+                        if (ref[i].retro[0] > 0.01 * refNorm[i].retro[0]) {
+                            const double r = got[i].retro[0] / ref[i].retro[0] / n;
+                            worst = std::max(worst, std::abs(r - 1));
+                            CHECK(std::abs(r - 1) <= 0.01);
+                            ++compared;
+                        } else {
+                            CHECK(got[i].retro[0] <= 0.02 * gotNorm[i].retro[0]);
+                        }
+                        const double rd = got[i].diffuse[0] / ref[i].diffuse[0] / nd;
+                        worst = std::max(worst, std::abs(rd - 1));
+                        CHECK(std::abs(rd - 1) <= 0.01);
+                    }
+                }
+            }
+    std::printf("MEASURED: materialx-portable at the retro peak: E of matched pairs and single "
+                "prisms (and the substrate's share) relative to the node's within %.2e over %d "
+                "comparisons\n",
+                worst, compared);
+    CHECK(compared > 200);
 }
