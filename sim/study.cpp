@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
 #include <fstream>
 #include <thread>
@@ -657,10 +658,17 @@ StudyShard run_study_shard(const StudyOptions& so, ShardSpec shard, const StudyO
         }
     out.threadsUsed = threadsUsed;
     out.elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    out.machine += "; 1-minute load average " + loadStart + " at the start and " + load_average() +
-                   " at the end of the simulations (above the number of hardware threads, "
-                   "other processes shared the cores and the rays/s below are lower than on an "
-                   "idle machine)";
+    const std::string loadEnd = load_average();
+    // Other processes: load before the study's threads started, or more at its end than the
+    // study's own threads on the machine's hardware threads account for.
+    const double hardware = std::max(1u, std::thread::hardware_concurrency());
+    const bool shared =
+        std::atof(loadStart.c_str()) > 0.5 || std::atof(loadEnd.c_str()) > hardware + 0.5;
+    out.machine += "; 1-minute load average " + loadStart + " at the start and " + loadEnd +
+                   " at the end of the simulations" +
+                   (shared ? " (other processes shared the cores: the rays/s below are lower "
+                             "than on an idle machine)"
+                           : " (the end figure counts the study's own threads)");
     return out;
 }
 
