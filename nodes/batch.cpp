@@ -290,8 +290,15 @@ void run(const Job& job, Kind kind, std::size_t n, const BatchOptions& options) 
         run_range(job, fn, kind, 0, n);
         return;
     }
-    parallel_ranges(n, options.threads, options.grain,
-                    [&](std::size_t b, std::size_t e) { run_range(job, fn, kind, b, e); });
+    // The callable captures one reference, so that std::function holds it without allocating.
+    const struct {
+        const Job& job;
+        BlockFn fn;
+        Kind kind;
+    } call{job, fn, kind};
+    parallel_ranges(n, options.threads, options.grain, [&call](std::size_t b, std::size_t e) {
+        run_range(call.job, call.fn, call.kind, b, e);
+    });
 }
 
 } // namespace

@@ -2,10 +2,173 @@
 
 #include <algorithm>
 #include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <mutex>
 #include <thread>
 #include <vector>
 
 namespace retroprism {
+
+namespace {
+
+// True on a thread that runs a share of a parallel call (a pool worker, or a caller while it
+// takes part): a parallel call made there runs on that thread alone instead of waiting for a
+// pool that is running its parent.
+thread_local bool tInParallel = false;
+
+// One worker per core but the caller's, started at the first parallel call and kept for the
+// life of the process, so that a call after the first starts no thread and allocates nothing.
+// A call hands the workers a function and its context (no copy of the caller's callable); the
+// caller takes part and returns when every worker has finished with it.
+class Pool {
+  public:
+    static Pool& instance() {
+        static Pool pool;
+        return pool;
+    }
+
+    // fn(ctx) on the calling thread and on up to `helpers` workers at once; false, with nothing
+    // run, when another thread's call holds the pool.
+    bool run(std::size_t helpers, void (*fn)(void*), void* ctx) {
+        std::unique_lock<std::mutex> busy(busy_, std::try_to_lock);
+        if (!busy.owns_lock()) return false;
+        {
+            std::lock_guard<std::mutex> lock(m_);
+            fn_ = fn;
+            ctx_ = ctx;
+            seats_ = std::min(helpers, workers_.size());
+            finished_ = 0;
+            ++generation_;
+        }
+        wake_.notify_all();
+        tInParallel = true;
+        try {
+            fn(ctx);
+        } catch (...) {
+            // The workers read ctx (the caller's): wait for them before unwinding.
+            tInParallel = false;
+            wait_workers();
+            throw;
+        }
+        tInParallel = false;
+        wait_workers();
+        return true;
+    }
+
+    std::size_t workers() const { return workers_.size(); }
+
+    Pool(const Pool&) = delete;
+    Pool& operator=(const Pool&) = delete;
+
+    ~Pool() {
+        {
+            std::lock_guard<std::mutex> lock(m_);
+            stop_ = true;
+        }
+        wake_.notify_all();
+        for (std::thread& t : workers_)
+            t.join();
+    }
+
+  private:
+    Pool() {
+        const unsigned cores = std::thread::hardware_concurrency();
+        for (unsigned k = 1; k < cores; ++k)
+            workers_.emplace_back([this] { work(); });
+    }
+
+    void wait_workers() {
+        std::unique_lock<std::mutex> lock(m_);
+        done_.wait(lock, [&] { return finished_ == workers_.size(); });
+    }
+
+    // Every worker answers every call (a call waits for all of them, so none misses the next);
+    // the first `seats_` run its function.
+    void work() {
+        tInParallel = true;
+        std::uint64_t seen = 0;
+        std::unique_lock<std::mutex> lock(m_);
+        for (;;) {
+            wake_.wait(lock, [&] { return stop_ || generation_ != seen; });
+            if (stop_) return;
+            seen = generation_;
+            const bool take = seats_ > 0;
+            if (take) --seats_;
+            void (*fn)(void*) = fn_;
+            void* ctx = ctx_;
+            lock.unlock();
+            if (take) fn(ctx);
+            lock.lock();
+            if (++finished_ == workers_.size()) done_.notify_one();
+        }
+    }
+
+    std::mutex busy_; // held by the call in progress
+    std::mutex m_;    // guards the fields below
+    std::condition_variable wake_, done_;
+    std::vector<std::thread> workers_;
+    void (*fn_)(void*) = nullptr;
+    void* ctx_ = nullptr;
+    std::size_t seats_ = 0;
+    std::size_t finished_ = 0;
+    std::uint64_t generation_ = 0;
+    bool stop_ = false;
+};
+
+// Runs fn(ctx) on `t` threads at most (the caller and t - 1 others): on the pool; on the caller
+// alone inside a parallel call or without other cores; on threads of its own when another
+// thread's call holds the pool.
+void run_shared(std::size_t t, void (*fn)(void*), void* ctx) {
+    if (tInParallel) {
+        fn(ctx);
+        return;
+    }
+    Pool& pool = Pool::instance();
+    if (pool.workers() == 0) {
+        fn(ctx);
+        return;
+    }
+    if (pool.run(t - 1, fn, ctx)) return;
+    std::vector<std::thread> threads;
+    for (std::size_t k = 1; k < t; ++k)
+        threads.emplace_back([fn, ctx] {
+            tInParallel = true;
+            fn(ctx);
+        });
+    tInParallel = true;
+    fn(ctx);
+    tInParallel = false;
+    for (std::thread& th : threads)
+        th.join();
+}
+
+struct ForJob {
+    const std::function<void(std::size_t)>* body;
+    std::size_t n;
+    std::atomic<std::size_t> next{0};
+};
+
+void run_for(void* p) {
+    ForJob& job = *static_cast<ForJob*>(p);
+    for (std::size_t i = job.next++; i < job.n; i = job.next++)
+        (*job.body)(i);
+}
+
+// Range k of t is [n k / t, n (k + 1) / t): the ranges do not depend on which thread runs them.
+struct RangesJob {
+    const std::function<void(std::size_t, std::size_t)>* body;
+    std::size_t n, t;
+    std::atomic<std::size_t> next{0};
+};
+
+void run_ranges(void* p) {
+    RangesJob& job = *static_cast<RangesJob*>(p);
+    for (std::size_t k = job.next++; k < job.t; k = job.next++)
+        (*job.body)(job.n * k / job.t, job.n * (k + 1) / job.t);
+}
+
+} // namespace
 
 int thread_count(int requested) {
     if (requested > 0) return requested;
@@ -20,15 +183,10 @@ void parallel_for(std::size_t n, int threads, const std::function<void(std::size
             body(i);
         return;
     }
-    std::atomic<std::size_t> next{0};
-    std::vector<std::thread> pool;
-    for (std::size_t k = 0; k < t; ++k)
-        pool.emplace_back([&] {
-            for (std::size_t i = next++; i < n; i = next++)
-                body(i);
-        });
-    for (std::thread& th : pool)
-        th.join();
+    ForJob job;
+    job.body = &body;
+    job.n = n;
+    run_shared(t, run_for, &job);
 }
 
 void parallel_ranges(std::size_t n, int threads, std::size_t grain,
@@ -40,13 +198,11 @@ void parallel_ranges(std::size_t n, int threads, std::size_t grain,
         body(0, n);
         return;
     }
-    std::vector<std::thread> pool;
-    for (std::size_t k = 0; k < t; ++k) {
-        const std::size_t b = n * k / t, e = n * (k + 1) / t;
-        pool.emplace_back([&body, b, e] { body(b, e); });
-    }
-    for (std::thread& th : pool)
-        th.join();
+    RangesJob job;
+    job.body = &body;
+    job.n = n;
+    job.t = t;
+    run_shared(t, run_ranges, &job);
 }
 
 } // namespace retroprism

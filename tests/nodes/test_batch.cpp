@@ -323,6 +323,35 @@ TEST_CASE("batch: no allocation per call after the first", "[batch]") {
     CHECK(gAllocations.load() - before == 1);
 }
 
+TEST_CASE("batch: no allocation per call after the first on every core", "[batch][threads]") {
+    // A batch spread over the cores runs on the process's pool of workers (util/parallel.h),
+    // started by the first parallel call: the calls after it start no thread and allocate
+    // nothing, whatever the threads asked for (more than the cores: the pool's workers take
+    // the ranges in turn).
+    const BatchEvaluator batch{Params()};
+    Queries q;
+    rptest::Rng rng(91);
+    for (int i = 0; i < 8000; ++i)
+        q.push(vec3(rptest::dir_deg(89 * rng.uniform(), 360 * rng.uniform())),
+               vec3(rptest::dir_deg(89 * rng.uniform(), 360 * rng.uniform())));
+    retroprism::BatchSamples out{q.dir[0].data(), q.dir[1].data(), q.dir[2].data(),
+                                 q.lobes(),       q.out[9].data(), q.lobe.data()};
+    for (int threads : {0, 2, 5}) {
+        INFO("threads " << threads);
+        BatchOptions opt;
+        opt.threads = threads;
+        opt.grain = 500;
+        batch.eval(q.n, q.in(q.wi), q.in(q.wo), q.lobes(), q.out[9].data(), opt);
+        const long before = gAllocations.load();
+        for (int k = 0; k < 10; ++k) {
+            batch.eval(q.n, q.in(q.wi), q.in(q.wo), q.lobes(), q.out[9].data(), opt);
+            batch.pdf(q.n, q.in(q.wi), q.in(q.wo), q.out[9].data(), opt);
+            batch.sample(q.n, q.in(q.wi), q.in(q.wo), out, opt);
+        }
+        CHECK(gAllocations.load() - before == 0);
+    }
+}
+
 TEST_CASE("batch: the cpp-batch backend passes the tolerance contract", "[batch]") {
     const retroprism::CheckReport r = retroprism::check_backend("cpp-batch");
     INFO("max err " << r.max_err << " at " << r.worst << ", failures " << r.failures);
