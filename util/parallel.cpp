@@ -8,6 +8,8 @@
 #include <thread>
 #include <vector>
 
+#include <unistd.h>
+
 namespace retroprism {
 
 namespace {
@@ -57,6 +59,8 @@ class Pool {
     }
 
     std::size_t workers() const { return workers_.size(); }
+    // The process that started the workers: a child forked from it has none of them.
+    pid_t owner() const { return owner_; }
 
     Pool(const Pool&) = delete;
     Pool& operator=(const Pool&) = delete;
@@ -72,7 +76,7 @@ class Pool {
     }
 
   private:
-    Pool() {
+    Pool() : owner_(getpid()) {
         const unsigned cores = std::thread::hardware_concurrency();
         for (unsigned k = 1; k < cores; ++k)
             workers_.emplace_back([this] { work(); });
@@ -108,6 +112,7 @@ class Pool {
     std::mutex m_;    // guards the fields below
     std::condition_variable wake_, done_;
     std::vector<std::thread> workers_;
+    const pid_t owner_;
     void (*fn_)(void*) = nullptr;
     void* ctx_ = nullptr;
     std::size_t seats_ = 0;
@@ -117,15 +122,16 @@ class Pool {
 };
 
 // Runs fn(ctx) on `t` threads at most (the caller and t - 1 others): on the pool; on the caller
-// alone inside a parallel call or without other cores; on threads of its own when another
-// thread's call holds the pool.
+// alone inside a parallel call, without other cores, or in a child process forked after the pool
+// started (e.g. Python's multiprocessing: the child has the pool's state but not its threads);
+// on threads of its own when another thread's call holds the pool.
 void run_shared(std::size_t t, void (*fn)(void*), void* ctx) {
     if (tInParallel) {
         fn(ctx);
         return;
     }
     Pool& pool = Pool::instance();
-    if (pool.workers() == 0) {
+    if (pool.workers() == 0 || pool.owner() != getpid()) {
         fn(ctx);
         return;
     }

@@ -104,6 +104,36 @@ def test_rows_do_not_depend_on_the_batch():
             np.testing.assert_array_equal(part[key], whole[key][start:start + 7])
 
 
+def test_a_forked_child_runs_batches():
+    # Batches run on the process's pool of workers (util/parallel.h). A child forked after the
+    # pool started (Python's multiprocessing on Linux forks) has the pool's state but none of its
+    # threads: its batches must still run (on its own thread) and give the parent's rows, not
+    # wait for workers that are not there. The child reports through its exit status; the parent
+    # gives it 60 s.
+    wi, wo = directions(50_000, seed=17)
+    node = retroprism.Node(roughness=0.08)
+    whole = node.eval(wi, wo)
+    pid = os.fork()
+    if pid == 0:
+        code = 1
+        try:
+            again = node.eval(wi, wo)
+            code = 0 if all(np.array_equal(again[k], whole[k]) for k in LOBES + ["pdf"]) else 2
+        finally:
+            os._exit(code)
+    deadline = time.monotonic() + 60
+    while True:
+        done, status = os.waitpid(pid, os.WNOHANG)
+        if done:
+            break
+        if time.monotonic() > deadline:
+            os.kill(pid, 9)
+            os.waitpid(pid, 0)
+            pytest.fail("the forked child's batch did not finish in 60 s")
+        time.sleep(0.05)
+    assert os.WIFEXITED(status) and os.WEXITSTATUS(status) == 0, f"child status {status}"
+
+
 def test_the_gil_is_released_during_a_batch():
     # albedo of 24 directions at grid 256: about 10 ms of quadrature per direction. The main
     # thread stamps the time every millisecond while the batch runs in a thread; holding the GIL,
