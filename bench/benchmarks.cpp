@@ -191,17 +191,19 @@ struct BatchPairs {
 
 // The node over one batch of the pairs (nodes/batch.h), one thread: f alone, f + pdf, or sample.
 enum class BatchCall { F, FPdf, Sample };
-void bm_batch(benchmark::State& state, Params p, BatchCall call) {
+void bm_batch(benchmark::State& state, Params p, BatchCall call, SimdLevel level) {
     const BatchEvaluator batch(p);
     BatchPairs d;
     const BatchSamples samples{d.out[10].data(), d.out[11].data(), d.out[12].data(),
                                d.lobes(),        d.out[9].data(),  d.lobe.data()};
+    BatchOptions opt;
+    opt.level = level;
     for (auto _ : state) {
         if (call == BatchCall::Sample)
-            batch.sample(kPairs, d.in(0), d.in(6), samples);
+            batch.sample(kPairs, d.in(0), d.in(6), samples, opt);
         else
             batch.eval(kPairs, d.in(0), d.in(3), d.lobes(),
-                       call == BatchCall::FPdf ? d.out[9].data() : nullptr);
+                       call == BatchCall::FPdf ? d.out[9].data() : nullptr, opt);
         benchmark::DoNotOptimize(d.out[4].data());
         benchmark::ClobberMemory();
     }
@@ -219,17 +221,20 @@ void bm_mrm_batch(benchmark::State& state, baselines::RetroreflectiveGGXT<float>
     state.SetItemsProcessed(int64_t(state.iterations()) * kPairs);
 }
 
-// The batch evaluator for material p, one query at a time, as a LocalEval (its errors).
-LocalEval batch_eval(const Params& p) {
+// The batch evaluator for material p at instruction set `level`, one query at a time, as a
+// LocalEval (its errors).
+LocalEval batch_eval(const Params& p, SimdLevel level) {
     const auto batch = std::make_shared<const BatchEvaluator>(p);
-    return [batch](const glm::dvec3& wi, const glm::dvec3& wo, glm::dvec3 f[3]) {
+    return [batch, level](const glm::dvec3& wi, const glm::dvec3& wo, glm::dvec3 f[3]) {
         const float in[6] = {float(wi.x), float(wi.y), float(wi.z),
                              float(wo.x), float(wo.y), float(wo.z)};
         float out[9];
+        BatchOptions opt;
+        opt.level = level;
         batch->eval(
             1, {&in[0], &in[1], &in[2]}, {&in[3], &in[4], &in[5]},
             {{&out[0], &out[1], &out[2]}, {&out[3], &out[4], &out[5]}, {&out[6], &out[7], &out[8]}},
-            nullptr);
+            nullptr, opt);
         for (int k = 0; k < 3; ++k)
             f[k] = glm::dvec3(out[3 * k], out[3 * k + 1], out[3 * k + 2]);
     };
@@ -277,23 +282,23 @@ Row node_row(const std::string& name, const std::string& tier, const std::string
     return r;
 }
 
-Row batch_row(const std::string& name, const std::string& tier, const Params& p,
-              const Params& ref) {
-    benchmark::RegisterBenchmark(("eval/" + name).c_str(), bm_batch, p, BatchCall::F);
-    benchmark::RegisterBenchmark(("eval_pdf/" + name).c_str(), bm_batch, p, BatchCall::FPdf);
-    benchmark::RegisterBenchmark(("sample_pdf/" + name).c_str(), bm_batch, p, BatchCall::Sample);
+Row batch_row(const std::string& name, const std::string& tier, const Params& p, const Params& ref,
+              SimdLevel level = simd_level_supported()) {
+    benchmark::RegisterBenchmark(("eval/" + name).c_str(), bm_batch, p, BatchCall::F, level);
+    benchmark::RegisterBenchmark(("eval_pdf/" + name).c_str(), bm_batch, p, BatchCall::FPdf, level);
+    benchmark::RegisterBenchmark(("sample_pdf/" + name).c_str(), bm_batch, p, BatchCall::Sample,
+                                 level);
     Row r;
     r.name = name;
     r.tier = tier;
     r.lobes = "surface+retro+diffuse";
     r.config = std::string("ideal prisms, one batch of ") + std::to_string(kPairs) +
-               " pairs (nodes/batch.h), " + simd_level_name(simd_level_supported()) +
-               " kernels, one thread";
+               " pairs (nodes/batch.h), " + simd_level_name(level) + " kernels, one thread";
     r.has_sample = true;
     r.mask = 7;
     r.material = p;
     r.reference = ref;
-    r.make_eval = batch_eval;
+    r.make_eval = [level](const Params& q) { return batch_eval(q, level); };
     return r;
 }
 
@@ -381,6 +386,11 @@ const std::vector<Row>& rows() {
             baseline_row("mrm_ggx", "MaterialX-style retroreflective GGX + Lambert, float", mrm));
         out.push_back(batch_row("batch_exact", "exact", ideal, ideal));
         out.push_back(batch_row("batch_fast", "fast", idealFast, ideal));
+        // The fast batch at every lower instruction set (each is supported where a higher one
+        // is): what the vector width buys.
+        for (int level = int(simd_level_supported()) - 1; level >= 0; --level)
+            out.push_back(batch_row(std::string("batch_fast_") + simd_level_name(SimdLevel(level)),
+                                    "fast", idealFast, ideal, SimdLevel(level)));
         benchmark::RegisterBenchmark("eval/mrm_ggx_batch", bm_mrm_batch, mrm);
         Row mrmBatch;
         mrmBatch.name = "mrm_ggx_batch";

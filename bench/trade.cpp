@@ -62,6 +62,10 @@ std::vector<SimConfig> read_study(const std::string& path) {
 
 void simulator_errors(const Row& row, const std::vector<SimConfig>& study, Result& res) {
     if (!(row.mask & 2)) return;
+    // The study's prisms are the paper's cube: a canted cube or one with dihedral errors has no
+    // configuration there to be compared with.
+    const Params& m = row.material;
+    if (m.cant_angle != 0 || m.dihedral_error != 0 || m.dihedral_spread != 0) return;
     double e2 = 0, p2 = 0, eWorst = 0, pWorst = 0;
     int n = 0;
     for (const SimConfig& c : study) {

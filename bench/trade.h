@@ -43,7 +43,8 @@ struct SimConfig {
 std::vector<SimConfig> read_study(const std::string& path);
 
 // The row's retro lobe against the simulator, over the study's configurations with the row's
-// prisms (the study's material: kd 0.9, isotropic lobe, the paper's form; phi_i = 0). Energy:
+// prisms (the study's material: kd 0.9, isotropic lobe, the paper's form; phi_i = 0); none for
+// a row whose prisms are not the paper's cube (cant_angle, dihedral errors). Energy:
 // the row's retro albedo, integrated over the double reference's retro sampling map (64 x 64
 // midpoints, weights f cos / pdf), against the simulated retro fraction. Peak: the study's
 // cell-averaged reference peak scaled by the row's peak over the reference's at wo = wi.
