@@ -147,10 +147,6 @@ std::vector<double> grid(double lo, double hi, int n) {
 
 const std::vector<PortableException>& portable_exceptions() {
     static const std::vector<PortableException> list = {
-        {"retro_lobe",
-         "the graph keeps the isotropic lobe: the anisotropic lobe's widths along and "
-         "across the plane of incidence would need an anisotropic GGX lobe about V "
-         "with its tangent in that plane, which the graph does not build"},
         {"fidelity", "the graph is one approximation tier: its fits stand for the exact and the "
                      "fast formulas alike"},
         {"dihedral_error",
@@ -471,7 +467,7 @@ struct PrismShare {
 
 // The shading point's values the prisms' closed forms read.
 struct Sheet {
-    Val n, v, eta, eta2, gEta, metal, metal2, prism;
+    Val n, v, ft, eta, eta2, gEta, metal, metal2, prism;
 };
 
 // Internal Fresnel reflectance of an uncoated prism face at `cosine` (rp_fresnel_internal): 1
@@ -491,6 +487,26 @@ Val fresnel_internal(Graph& g, const Val& cosine, const Val& eta, const Val& eta
     return g.if_ge(sin2T, Graph::f(1), Graph::f(1), fr);
 }
 
+// The shading frame's tangent (rp_make_frame): the tangent input made orthogonal to the normal;
+// a tangent along the normal, or zero, replaced by the orthogonal unit vector of Duff et al.
+// 2017.
+Val shading_tangent(Graph& g, const Val& n) {
+    Val tangent = g.input("tangent", "vector3");
+    Val tp = g.sub(tangent, g.mul(n, g.dot(tangent, n)));
+    Val nx = g.extract(n, 0);
+    Val ny = g.extract(n, 1);
+    Val nz = g.extract(n, 2);
+    Val sgn = g.if_ge(nz, Graph::f(0), Graph::f(1), Graph::f(-1));
+    Val duffA = g.div(Graph::f(-1), g.add(sgn, nz));
+    Val duff = g.node("combine3", "vector3",
+                      {{"in1", g.add(Graph::f(1), g.mul(g.mul(sgn, g.mul(nx, nx)), duffA))},
+                       {"in2", g.mul(sgn, g.mul(g.mul(nx, ny), duffA))},
+                       {"in3", g.mul(g.mul(sgn, nx), Graph::f(-1))}});
+    Val ft = g.if_ge(g.mul(g.dot(tangent, tangent), Graph::f(1e-12)), g.dot(tp, tp), duff,
+                     g.node("normalize", "vector3", {{"in", tp}}));
+    return ft;
+}
+
 // era_mode oriented and matched_pair: E of the prisms at their azimuth in closed form, and the
 // substrate's share; {oriented, matched pair}.
 std::pair<PrismShare, PrismShare> prisms_at_azimuth(Graph& g, const Sheet& s) {
@@ -504,21 +520,7 @@ std::pair<PrismShare, PrismShare> prisms_at_azimuth(Graph& g, const Sheet& s) {
               "form (MODEL.md sections 2 and 8, prism_core.inc's rp_era_canted, "
               "rp_face_reflectances_tir and rp_metal_passed_oriented), for the direction refracted "
               "from V, in the frame of the normal and the tangent");
-    Val tangent = g.input("tangent", "vector3");
-    Val tp = g.sub(tangent, g.mul(n, g.dot(tangent, n)));
-    Val nx = g.extract(n, 0);
-    Val ny = g.extract(n, 1);
-    Val nz = g.extract(n, 2);
-    g.comment(
-        "A tangent along the normal, or zero: the orthogonal unit vector of Duff et al. 2017");
-    Val sgn = g.if_ge(nz, Graph::f(0), Graph::f(1), Graph::f(-1));
-    Val duffA = g.div(Graph::f(-1), g.add(sgn, nz));
-    Val duff = g.node("combine3", "vector3",
-                      {{"in1", g.add(Graph::f(1), g.mul(g.mul(sgn, g.mul(nx, nx)), duffA))},
-                       {"in2", g.mul(sgn, g.mul(g.mul(nx, ny), duffA))},
-                       {"in3", g.mul(g.mul(sgn, nx), Graph::f(-1))}});
-    Val ft = g.if_ge(g.mul(g.dot(tangent, tangent), Graph::f(1e-12)), g.dot(tp, tp), duff,
-                     g.node("normalize", "vector3", {{"in", tp}}));
+    const Val& ft = s.ft;
     Val fb = g.node("crossproduct", "vector3", {{"in1", n}, {"in2", ft}});
     Val minusInvEta = g.div(Graph::f(-1), eta);
     Val dx = g.mul(g.dot(v, ft), minusInvEta);
@@ -589,6 +591,56 @@ std::pair<PrismShare, PrismShare> prisms_at_azimuth(Graph& g, const Sheet& s) {
     return {oriented, {eraPair, passedPair}};
 }
 
+// The retro lobe: GGX about V of the model's widths at V (MODEL.md section 3; isotropic
+// alpha_o, or alpha_par along the plane of incidence and alpha_perp across it for retro_lobe
+// anisotropic), widened by the random dihedral errors, each mapped to GGX by fit_retro_lobe, of
+// colour retro_color `weight` scale.
+Val retro_lobe(Graph& g, const Sheet& s, const Val& alpha, const Val& c, const Val& weight) {
+    const double minAlpha = f64::RP_MIN_ALPHA;
+    g.comment(
+        "Retro lobe: GGX about V; alpha_perp = sqrt2 alpha (eta^2 - 1) / (eta cos_t + cos_v), "
+        "alpha_par = alpha_perp / cos_v, isotropic alpha_o = alpha_perp / sqrt(cos_v)");
+    Val perp = g.div(g.mul(g.mul(alpha, Graph::f(std::sqrt(2.0))), g.sub(s.eta2, Graph::f(1))),
+                     g.add(s.gEta, c));
+    Val par = g.div(perp, c);
+    Val iso = g.div(perp, g.sqrt(c));
+    g.comment(
+        "Random dihedral errors (dihedral_spread, sigma) add 8 sigma^2 to each width's square "
+        "times its magnification squared, (eta cos_t / cos_v)^2 along and eta^2 across; the "
+        "isotropic width takes their product, eta^2 cos_t / cos_v (docs/dihedral.md)");
+    Val sigma = g.mul(float_input(g, "dihedral_spread"), Graph::f(f64::RP_ARCMIN));
+    Val var8 = g.mul(g.mul(sigma, sigma), Graph::f(8));
+    Val magPar = g.div(s.gEta, c);
+    auto widen = [&](const Val& width, const Val& mag2) {
+        return g.sqrt(g.add(g.mul(width, width), g.mul(var8, mag2)));
+    };
+    Val isoW = widen(iso, g.div(g.mul(s.eta, s.gEta), c));
+    Val parW = widen(par, g.mul(magPar, magPar));
+    Val perpW = widen(perp, s.eta2);
+    Val lobe = g.input("retro_lobe", "integer");
+    auto ggx = [&](const Val& width, const Val& isotropic) {
+        Val w = choose_enum(g, lobe, 1, width, isotropic);
+        return g.clamp(g.mul(g.max(w, Graph::f(minAlpha)), Graph::f(0.5 * fit_retro_lobe().width)),
+                       minAlpha, 1.0);
+    };
+    g.comment("The lobe's tangent along the plane of incidence, N less its part along V (at normal "
+              "incidence, where the widths agree, the shading tangent)");
+    Val inPlane = g.sub(s.n, g.mul(s.v, g.dot(s.n, s.v)));
+    Val tangent = g.if_ge(Graph::f(1e-12), g.dot(inPlane, inPlane), s.ft,
+                          g.node("normalize", "vector3", {{"in", inPlane}}));
+    Val tint =
+        g.mul(color_input(g, "retro_color"), g.mul(weight, Graph::f(fit_retro_lobe().scale)));
+    return g.node("generalized_schlick_bsdf", "BSDF",
+                  {{"color0", tint},
+                   {"color82", tint},
+                   {"color90", tint},
+                   {"roughness", g.node("combine2", "vector2",
+                                        {{"in1", ggx(parW, isoW)}, {"in2", ggx(perpW, isoW)}})},
+                   {"normal", s.v},
+                   {"tangent", tangent},
+                   {"scatter_mode", {"string", "value", "R"}}});
+}
+
 } // namespace
 
 std::string generate_portable_nodegraph() {
@@ -646,8 +698,9 @@ std::string generate_portable_nodegraph() {
     };
     Val eraAveraged = choose(1, eraTir, choose(2, eraMetal, area));
     Val passedAveraged = choose(2, passedMetal, g.sub(Graph::f(1), eraAveraged));
+    Val ft = shading_tangent(g, n);
     const auto [oriented, pair] =
-        prisms_at_azimuth(g, {n, v, eta, eta2, gEta, metal, metal2, prism});
+        prisms_at_azimuth(g, {n, v, ft, eta, eta2, gEta, metal, metal2, prism});
     g.comment("era_mode (an integer enum: 0 averaged, 1 matched_pair, 2 oriented; another value "
               "counts as averaged, the node's default) chooses E and the substrate's fraction");
     Val eraMode = g.input("era_mode", "integer");
@@ -665,30 +718,8 @@ std::string generate_portable_nodegraph() {
                           {"roughness", alpha2},
                           {"normal", n},
                           {"scatter_mode", {"string", "value", "R"}}});
-    g.comment("Retro lobe: GGX about V, alpha_o = sqrt2 alpha (eta^2 - 1) / ((eta cos_t + cos_v) "
-              "sqrt(cos_v))");
-    Val alphaRough = g.div(g.mul(g.mul(alpha, Graph::f(std::sqrt(2.0))), g.sub(eta2, Graph::f(1))),
-                           g.mul(g.add(gEta, c), g.sqrt(c)));
-    g.comment("Random dihedral errors (dihedral_spread, sigma): alpha_o^2 + 8 sigma^2 eta^2 cos_t "
-              "/ cos_v, the product of the node's two widenings (docs/dihedral.md) on one width");
-    Val sigma = g.mul(float_input(g, "dihedral_spread"), Graph::f(f64::RP_ARCMIN));
-    Val alphaO =
-        g.sqrt(g.add(g.mul(alphaRough, alphaRough),
-                     g.div(g.mul(g.mul(g.mul(sigma, sigma), Graph::f(8)), g.mul(eta, gEta)), c)));
-    Val alphaG =
-        g.clamp(g.mul(g.max(alphaO, Graph::f(minAlpha)), Graph::f(0.5 * fit_retro_lobe().width)),
-                minAlpha, 1.0);
-    Val retroTint =
-        g.mul(color_input(g, "retro_color"),
-              g.mul(g.mul(weight, Graph::f(fit_retro_lobe().scale)), g.mul(era, trans2)));
-    Val retro =
-        g.node("generalized_schlick_bsdf", "BSDF",
-               {{"color0", retroTint},
-                {"color82", retroTint},
-                {"color90", retroTint},
-                {"roughness", g.node("combine2", "vector2", {{"in1", alphaG}, {"in2", alphaG}})},
-                {"normal", v},
-                {"scatter_mode", {"string", "value", "R"}}});
+    Val retro = retro_lobe(g, {n, v, ft, eta, eta2, gEta, metal, metal2, prism}, alpha, c,
+                           g.mul(weight, g.mul(era, trans2)));
     g.comment("Diffuse lobe: Lambert of k_d T^2 passed / (eta^2 (1 - k_d F_dr(eta))), passed = 1 - "
               "E (metallized: R P1 + R^2 P2)");
     Val kd = color_input(g, "diffuse_color");

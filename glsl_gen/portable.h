@@ -10,8 +10,9 @@
 //   retro    generalized_schlick_bsdf with constant Fresnel c_r E(mu_t) T(cos_v)^2 and its normal
 //            set to V: a GGX lobe about the view direction, of width kPortableRetroFit.width
 //            alpha_o / 2 (a reflected direction spreads twice as wide as the half vector), with
-//            alpha_o the model's isotropic width at V and the Beckmann shape fitted by one GGX
-//            lobe (fit_retro_lobe);
+//            alpha_o the model's isotropic width at V (retro_lobe anisotropic: alpha_par along
+//            the lobe's tangent in the plane of incidence, alpha_perp across) and the Beckmann
+//            shape fitted by one GGX lobe (fit_retro_lobe);
 //   diffuse  oren_nayar_diffuse_bsdf (roughness 0: Lambert) of colour
 //            k_d T(cos_v)^2 (1 - E) / (eta^2 (1 - k_d F_dr(eta))).
 // With era_mode averaged, E is the azimuth-averaged ERA of ideal prisms as a polynomial in
