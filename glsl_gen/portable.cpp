@@ -467,13 +467,15 @@ struct PrismShare {
 
 // The shading point's values the prisms' closed forms read.
 struct Sheet {
-    Val n, v, ft, eta, eta2, gEta, metal, metal2, prism;
+    Val n, v, ft, eta, eta2, eta2m1, gEta, cantDeg, metal, metal2, prism;
 };
 
 // Internal Fresnel reflectance of an uncoated prism face at `cosine` (rp_fresnel_internal): 1
 // beyond the critical angle.
-Val fresnel_internal(Graph& g, const Val& cosine, const Val& eta, const Val& eta2) {
-    Val eta2m1 = g.sub(eta2, Graph::f(1));
+Val fresnel_internal(Graph& g, const Val& cosine, const Sheet& s) {
+    const Val& eta = s.eta;
+    const Val& eta2 = s.eta2;
+    const Val& eta2m1 = s.eta2m1;
     Val ck = g.clamp(cosine, 0, 1);
     Val ck2 = g.mul(ck, ck);
     Val sin2T = g.mul(g.sub(Graph::f(1), ck2), eta2);
@@ -513,7 +515,6 @@ std::pair<PrismShare, PrismShare> prisms_at_azimuth(Graph& g, const Sheet& s) {
     const Val& n = s.n;
     const Val& v = s.v;
     const Val& eta = s.eta;
-    const Val& eta2 = s.eta2;
     const Val& metal = s.metal;
     const Val& metal2 = s.metal2;
     g.comment("era_mode matched_pair and oriented: E of the prisms at their orientation in closed "
@@ -530,7 +531,7 @@ std::pair<PrismShare, PrismShare> prisms_at_azimuth(Graph& g, const Sheet& s) {
               "orientation's vertex, e_2 and e_3 at +-phi2 from it (rp_prepare)");
     const double degree = f64::RP_PI / 180;
     Val rot = g.mul(float_input(g, "orientation"), Graph::f(degree));
-    Val cantRad = g.mul(float_input(g, "cant_angle"), Graph::f(degree));
+    Val cantRad = g.mul(s.cantDeg, Graph::f(degree));
     Val cosCant = g.fn("cos", cantRad);
     Val sinCant = g.fn("sin", cantRad);
     Val z1 = g.add(g.mul(cosCant, Graph::f(f64::RP_INV_SQRT3)),
@@ -545,10 +546,10 @@ std::pair<PrismShare, PrismShare> prisms_at_azimuth(Graph& g, const Sheet& s) {
               "polynomial good to 1e-4)");
     Val phi2 = g.add(phi2Acos, g.div(g.sub(g.fn("cos", phi2Acos), cosPhi2), g.fn("sin", phi2Acos)));
     struct Face {
-        Val z, along; // e_k.z and e_k.xy . d.xy
+        Val z, normalPart, along; // e_k.z, e_k.z d.z and e_k.xy . d.xy: d.e_k = normalPart + along
     };
     auto face = [&](const Val& xy, const Val& z, const Val& angle) {
-        return Face{z,
+        return Face{z, g.mul(dz, z),
                     g.mul(xy, g.add(g.mul(dx, g.fn("cos", angle)), g.mul(dy, g.fn("sin", angle))))};
     };
     const Face faces[3] = {face(xy1, z1, rot), face(xy2, z2, g.add(rot, phi2)),
@@ -560,13 +561,13 @@ std::pair<PrismShare, PrismShare> prisms_at_azimuth(Graph& g, const Sheet& s) {
     auto prismAt = [&](double sign) {
         Val m[3], l[3], r = Graph::f(1), sum = Graph::f(0), lmax = Graph::f(-1e30);
         for (int k = 0; k < 3; ++k) {
-            Val along = faces[k].along;
-            Val de = g.add(g.mul(dz, faces[k].z), sign > 0 ? along : g.mul(along, Graph::f(-1)));
+            Val de = sign > 0 ? g.add(faces[k].normalPart, faces[k].along)
+                              : g.sub(faces[k].normalPart, faces[k].along);
             m[k] = g.div(g.mul(g.mul(faces[k].z, Graph::f(2)), de), dz);
             l[k] = g.sub(Graph::f(1), m[k]);
             sum = g.add(sum, g.mul(l[k], g.fn("absval", l[k])));
             lmax = g.max(lmax, l[k]);
-            r = g.mul(r, fresnel_internal(g, g.fn("absval", de), eta, eta2));
+            r = g.mul(r, fresnel_internal(g, g.fn("absval", de), s));
         }
         Val a = g.if_ge(lmax, Graph::f(1), Graph::f(0), g.clamp(g.sub(Graph::f(1), sum), 0, 1));
         Val faceHits = Graph::f(0);
@@ -600,8 +601,7 @@ Val retro_lobe(Graph& g, const Sheet& s, const Val& alpha, const Val& c, const V
     g.comment(
         "Retro lobe: GGX about V; alpha_perp = sqrt2 alpha (eta^2 - 1) / (eta cos_t + cos_v), "
         "alpha_par = alpha_perp / cos_v, isotropic alpha_o = alpha_perp / sqrt(cos_v)");
-    Val perp = g.div(g.mul(g.mul(alpha, Graph::f(std::sqrt(2.0))), g.sub(s.eta2, Graph::f(1))),
-                     g.add(s.gEta, c));
+    Val perp = g.div(g.mul(g.mul(alpha, Graph::f(std::sqrt(2.0))), s.eta2m1), g.add(s.gEta, c));
     Val par = g.div(perp, c);
     Val iso = g.div(perp, g.sqrt(c));
     g.comment(
@@ -659,13 +659,15 @@ std::string generate_portable_nodegraph() {
     Val eta = float_input(g, "ior");
     Val eta2 = g.mul(eta, eta);
     Val c2 = g.mul(c, c);
-    Val gEta = g.sqrt(g.max(g.add(g.sub(eta2, Graph::f(1)), c2), Graph::f(0)));
+    Val eta2m1 = g.sub(eta2, Graph::f(1));
+    Val gEta = g.sqrt(g.max(g.add(eta2m1, c2), Graph::f(0)));
     Val sinT = g.div(g.sqrt(g.max(g.sub(Graph::f(1), c2), Graph::f(0))), eta);
     Val trans = transmittance(g, c, gEta);
     Val trans2 = g.mul(trans, trans);
     g.comment("A: the averaged ERA of ideal prisms, fitted in (sin theta_t, cant_angle)");
     Val u = g.sub(g.mul(sinT, Graph::f(2)), Graph::f(1));
-    Val cant = g.div(float_input(g, "cant_angle"), Graph::f(kCantRange));
+    Val cantDeg = float_input(g, "cant_angle");
+    Val cant = g.div(cantDeg, Graph::f(kCantRange));
     Val area = g.clamp(g.poly(fit_era().coef, u, cant), 0, 1);
     g.comment("Uncoated prisms: E = A Q, Q fitted in eta and the tilt beyond the onset of partial "
               "reflection, asin(sin theta_t) + asin(1 / eta) - acos(1 / sqrt3), as a fraction of "
@@ -698,9 +700,9 @@ std::string generate_portable_nodegraph() {
     };
     Val eraAveraged = choose(1, eraTir, choose(2, eraMetal, area));
     Val passedAveraged = choose(2, passedMetal, g.sub(Graph::f(1), eraAveraged));
-    Val ft = shading_tangent(g, n);
-    const auto [oriented, pair] =
-        prisms_at_azimuth(g, {n, v, ft, eta, eta2, gEta, metal, metal2, prism});
+    const Sheet sheet{n,      v,    shading_tangent(g, n), eta, eta2, eta2m1, gEta, cantDeg, metal,
+                      metal2, prism};
+    const auto [oriented, pair] = prisms_at_azimuth(g, sheet);
     g.comment("era_mode (an integer enum: 0 averaged, 1 matched_pair, 2 oriented; another value "
               "counts as averaged, the node's default) chooses E and the substrate's fraction");
     Val eraMode = g.input("era_mode", "integer");
@@ -718,8 +720,7 @@ std::string generate_portable_nodegraph() {
                           {"roughness", alpha2},
                           {"normal", n},
                           {"scatter_mode", {"string", "value", "R"}}});
-    Val retro = retro_lobe(g, {n, v, ft, eta, eta2, gEta, metal, metal2, prism}, alpha, c,
-                           g.mul(weight, g.mul(era, trans2)));
+    Val retro = retro_lobe(g, sheet, alpha, c, g.mul(weight, g.mul(era, trans2)));
     g.comment("Diffuse lobe: Lambert of k_d T^2 passed / (eta^2 (1 - k_d F_dr(eta))), passed = 1 - "
               "E (metallized: R P1 + R^2 P2)");
     Val kd = color_input(g, "diffuse_color");
