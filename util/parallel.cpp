@@ -19,6 +19,14 @@ namespace {
 // pool that is running its parent.
 thread_local bool tInParallel = false;
 
+// Marks the calling thread as taking part in a parallel call while it lives.
+struct Participating {
+    Participating() { tInParallel = true; }
+    ~Participating() { tInParallel = false; }
+    Participating(const Participating&) = delete;
+    Participating& operator=(const Participating&) = delete;
+};
+
 // One worker per core but the caller's, started at the first parallel call and kept for the
 // life of the process, so that a call after the first starts no thread and allocates nothing.
 // A call hands the workers a function and its context (no copy of the caller's callable); the
@@ -44,17 +52,14 @@ class Pool {
             ++generation_;
         }
         wake_.notify_all();
-        tInParallel = true;
-        try {
-            fn(ctx);
-        } catch (...) {
-            // The workers read ctx (the caller's): wait for them before unwinding.
-            tInParallel = false;
-            wait_workers();
-            throw;
-        }
-        tInParallel = false;
-        wait_workers();
+        // The workers read ctx (the caller's): they are waited for before this returns or, if
+        // fn throws, unwinds.
+        struct Wait {
+            Pool& pool;
+            ~Wait() { pool.wait_workers(); }
+        } wait{*this};
+        Participating here;
+        fn(ctx);
         return true;
     }
 
@@ -90,7 +95,7 @@ class Pool {
     // Every worker answers every call (a call waits for all of them, so none misses the next);
     // the first `seats_` run its function.
     void work() {
-        tInParallel = true;
+        Participating here;
         std::uint64_t seen = 0;
         std::unique_lock<std::mutex> lock(m_);
         for (;;) {
@@ -137,16 +142,21 @@ void run_shared(std::size_t t, void (*fn)(void*), void* ctx) {
     }
     if (pool.run(t - 1, fn, ctx)) return;
     std::vector<std::thread> threads;
+    // Joined before this returns or, if fn throws on this thread, unwinds.
+    struct Join {
+        std::vector<std::thread>& threads;
+        ~Join() {
+            for (std::thread& th : threads)
+                th.join();
+        }
+    } join{threads};
     for (std::size_t k = 1; k < t; ++k)
         threads.emplace_back([fn, ctx] {
-            tInParallel = true;
+            Participating here;
             fn(ctx);
         });
-    tInParallel = true;
+    Participating here;
     fn(ctx);
-    tInParallel = false;
-    for (std::thread& th : threads)
-        th.join();
 }
 
 struct ForJob {
