@@ -113,6 +113,24 @@ void bm_eval(benchmark::State& state, Params p) {
     state.SetItemsProcessed(int64_t(state.iterations()) * kPairs);
 }
 
+// A node made each iteration: of p itself (kept), or of p with its ior moved to one of 1000
+// float values in turn (made).
+void bm_construct(benchmark::State& state, Params p, bool kept) {
+    const float ior = float(p.ior);
+    int k = 0;
+    for (auto _ : state) {
+        if (!kept) {
+            float moved = ior;
+            for (int i = 0; i < k; ++i)
+                moved = std::nextafter(moved, 2.0f);
+            p.ior = moved;
+            k = (k + 1) % 1000;
+        }
+        PrismaticRetroreflector<float> node(p);
+        benchmark::DoNotOptimize(node.core_material().azimuth_series);
+    }
+}
+
 // f and the sampling pdf (rp_eval), as a renderer's light loop with MIS asks for them.
 template <class A>
 void bm_eval_pdf(benchmark::State& state, Params p) {
@@ -401,6 +419,31 @@ const std::vector<Row>& rows() {
                           simd_level_name(simd_level_supported()) + " kernels, one thread";
         mrmBatch.baseline = true;
         out.push_back(mrmBatch);
+        construction_rows();
+        return out;
+    }();
+    return all;
+}
+
+const std::vector<ConstructionRow>& construction_rows() {
+    static const std::vector<ConstructionRow> all = [] {
+        std::vector<ConstructionRow> out;
+        auto add = [&](const std::string& name, const std::string& config, const Params& p) {
+            benchmark::RegisterBenchmark(("construct/" + name).c_str(), bm_construct, p, false);
+            benchmark::RegisterBenchmark(("construct/" + name + "_kept").c_str(), bm_construct, p,
+                                         true);
+            out.push_back({name, config});
+        };
+        Params tir;
+        tir.prism_reflection = f64::RP_PRISM_TIR;
+        tir.fidelity = f64::RP_FIDELITY_EXACT;
+        add("exact_tir", "the paper's cube, uncoated prisms, exact tier, ior 1.49", tir);
+        Params canted = tir;
+        canted.cant_angle = -11.0;
+        add("canted_tir", "cant -11 deg, uncoated prisms, ior 1.49", canted);
+        Params metal = canted;
+        metal.prism_reflection = f64::RP_PRISM_METALLIZED;
+        add("canted_metal", "cant -11 deg, metallised prisms (ERA and face hits), ior 1.49", metal);
         return out;
     }();
     return all;

@@ -41,4 +41,15 @@ const std::vector<Row>& rows();
 // Evaluations per benchmark iteration (the direction-pair set's size).
 constexpr int kPairs = 1024;
 
+// Making a node (PrismaticRetroreflector<float>) of a material whose azimuth averages the node
+// keeps as series (canted cubes; uncoated ones in the exact tier): benchmark "construct/<name>"
+// makes a node of a material not made before each time (its ior one float step apart from the
+// last over 1000 values, more than the series the process keeps), "construct/<name>_kept" one of
+// the same material each time (its series kept by azimuth_series). Registered with rows().
+struct ConstructionRow {
+    std::string name;
+    std::string config;
+};
+const std::vector<ConstructionRow>& construction_rows();
+
 } // namespace retroprism::bench

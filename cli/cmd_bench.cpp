@@ -65,6 +65,33 @@ std::string fmt_err(double e) {
 // or JSON, each SPIR-V size also as a ratio to MaterialX's dielectric + Oren-Nayar shader's:
 // over all instructions, and over the code alone (without the constants' declarations, where
 // the node's tables are).
+// Node construction: ms per node of a material made for the first time, and per node whose
+// series the process kept.
+struct Construction {
+    const bench::ConstructionRow* row;
+    double msMade, msKept;
+};
+
+std::vector<Construction> constructions_of(Collector& collector) {
+    std::vector<Construction> out;
+    for (const bench::ConstructionRow& c : bench::construction_rows())
+        out.push_back({&c, collector.ns["construct/" + c.name] * 1e-6,
+                       collector.ns["construct/" + c.name + "_kept"] * 1e-6});
+    return out;
+}
+
+void print_constructions(const std::vector<Construction>& constructions) {
+    std::printf("\n%-19s %10s %10s %9s  %s\n", "node construction", "ms made", "ms kept",
+                "made/kept", "material");
+    for (const Construction& c : constructions)
+        std::printf("%-19s %10.3f %10.4f %9.0f  %s\n", c.row->name.c_str(), c.msMade, c.msKept,
+                    c.msKept > 0 ? c.msMade / c.msKept : 0.0, c.row->config.c_str());
+    std::printf("(made: a material not made before in the process, its azimuth-average series "
+                "made; kept: one made before, its series copied from those the process keeps, the "
+                "last %d)\n",
+                kSeriesCacheEntries);
+}
+
 void print_glsl_costs(bool json) {
     const std::vector<bench::GlslCost> variants = bench::glsl_costs();
     const std::vector<bench::MxShaderCost> mx = bench::mx_shader_costs(data_dir());
@@ -188,9 +215,17 @@ int cmd_bench(int argc, const char** argv) {
     for (Result& r : results)
         r.ratio = mrm > 0 ? r.nsEval / mrm : 0;
 
+    const std::vector<Construction> constructions = constructions_of(collector);
+
     auto opt = [](double v) { return v >= 0 ? nlohmann::json(v) : nlohmann::json(nullptr); };
     if (ap["json"].get<int>()) {
-        nlohmann::json out = {{"rows", nlohmann::json::array()}};
+        nlohmann::json out = {{"rows", nlohmann::json::array()},
+                              {"construction", nlohmann::json::array()}};
+        for (const Construction& c : constructions)
+            out["construction"].push_back({{"name", c.row->name},
+                                           {"config", c.row->config},
+                                           {"ms_made", c.msMade},
+                                           {"ms_kept", c.msKept}});
         for (const Result& r : results)
             out["rows"].push_back({{"name", r.row->name},
                                    {"tier", r.row->tier},
@@ -246,6 +281,7 @@ int cmd_bench(int argc, const char** argv) {
             "(configurations with the row's prisms; the model's own error dominates). %u "
             "hardware threads.\n",
             std::thread::hardware_concurrency());
+        print_constructions(constructions);
     }
     const std::string plotPath = ap["plot"].get<std::string>();
     if (!plotPath.empty()) write_plot(results, plotPath);

@@ -12,6 +12,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
+#include <list>
+#include <mutex>
+#include <pthread.h>
 #include <vector>
 
 #include "prismatic_retroreflector.h"
@@ -143,9 +147,7 @@ void refine(double lo, double hi, double minWidth, const Integral& f, const Valu
     refine(mid, hi, minWidth, f, floor, out);
 }
 
-} // namespace
-
-std::vector<double> azimuth_series(const AzimuthAverage& a) {
+std::vector<double> make_series(const AzimuthAverage& a) {
     const Integral f{a, a.hits ? 2 : 1};
     std::vector<double> ends = {0.0};
     for (double t : structure_changes(f, a.t_end))
@@ -168,6 +170,83 @@ std::vector<double> azimuth_series(const AzimuthAverage& a) {
         for (size_t q = 0; q < size_t(f.functions); ++q)
             s.insert(s.end(), p.c[q].begin(), p.c[q].end());
     return s;
+}
+
+// The series made last, most recent first: a series is a function of its AzimuthAverage alone,
+// so nodes of one material (a renderer's instances of a sheeting, a script's nodes in a loop)
+// make it once per process. Keys compare bit for bit; lookups and insertions hold the mutex, a
+// series is made outside it (two threads that miss the same key both make it, the same bits,
+// and the second finds the first's entry when it inserts).
+struct SeriesCache {
+    struct Entry {
+        AzimuthAverage key;
+        std::vector<double> series;
+    };
+    std::mutex mutex;
+    std::list<Entry> entries;
+    SeriesCacheStats stats;
+};
+
+// The cache, with the mutex held across fork() (pthread_atfork), so that a child forked while
+// another thread looked up a series finds it unlocked.
+SeriesCache& series_cache() {
+    static SeriesCache* cache = [] {
+        static SeriesCache c;
+        pthread_atfork([] { c.mutex.lock(); }, [] { c.mutex.unlock(); }, [] { c.mutex.unlock(); });
+        return &c;
+    }();
+    return *cache;
+}
+
+bool same_bits(double x, double y) {
+    return std::memcmp(&x, &y, sizeof x) == 0;
+}
+
+bool same_average(const AzimuthAverage& x, const AzimuthAverage& y) {
+    for (int k = 0; k < 3; ++k)
+        if (!same_bits(x.face_z[k], y.face_z[k]) || !same_bits(x.face_xy[k], y.face_xy[k]) ||
+            !same_bits(x.face_phi[k], y.face_phi[k]))
+            return false;
+    return same_bits(x.phi_end, y.phi_end) && same_bits(x.eta, y.eta) &&
+           same_bits(x.t_end, y.t_end) && x.tir == y.tir && x.hits == y.hits;
+}
+
+// The entry of key a moved to the front, or false; the caller holds the mutex.
+bool to_front(SeriesCache& cache, const AzimuthAverage& a) {
+    for (auto it = cache.entries.begin(); it != cache.entries.end(); ++it) {
+        if (!same_average(it->key, a)) continue;
+        cache.entries.splice(cache.entries.begin(), cache.entries, it);
+        return true;
+    }
+    return false;
+}
+
+} // namespace
+
+std::vector<double> azimuth_series(const AzimuthAverage& a) {
+    SeriesCache& cache = series_cache();
+    {
+        std::lock_guard<std::mutex> lock(cache.mutex);
+        if (to_front(cache, a)) {
+            ++cache.stats.hits;
+            return cache.entries.front().series;
+        }
+        ++cache.stats.misses;
+    }
+    std::vector<double> series = make_series(a);
+    std::lock_guard<std::mutex> lock(cache.mutex);
+    if (!to_front(cache, a)) {
+        cache.entries.push_front({a, series});
+        if (cache.entries.size() > size_t(kSeriesCacheEntries)) cache.entries.pop_back();
+        cache.stats.entries = int(cache.entries.size());
+    }
+    return series;
+}
+
+SeriesCacheStats azimuth_series_cache_stats() {
+    SeriesCache& cache = series_cache();
+    std::lock_guard<std::mutex> lock(cache.mutex);
+    return cache.stats;
 }
 
 } // namespace retroprism

@@ -162,8 +162,20 @@ struct AzimuthAverage {
 // rp_azimuth_series, prism_core.inc), interpolating rp_azimuth_average at the points between
 // each interval's nodes to within 1e-8 of the interval's largest value or 1e-11 of the
 // function's largest, whichever is more, but where an interval reached the narrowest width
-// allowed (nodes/azimuth_series.cpp; 0.3-50 ms to make).
+// allowed (nodes/azimuth_series.cpp; 0.3-50 ms to make). The last kSeriesCacheEntries series
+// made are kept, most recently used first: another node of the same material (the same
+// AzimuthAverage, bit for bit) copies its series instead of making it again. Thread-safe.
 std::vector<double> azimuth_series(const AzimuthAverage& average);
+
+// The series kept, and the lookups of azimuth_series that found theirs (hits) or made it
+// (misses), since the process started.
+constexpr int kSeriesCacheEntries = 32;
+struct SeriesCacheStats {
+    long long hits = 0;
+    long long misses = 0;
+    int entries = 0;
+};
+SeriesCacheStats azimuth_series_cache_stats();
 
 // The indices of refraction below which canted prisms keep integrating: t_end = 1 / sqrt(eta^2
 // - 1), the largest tan(theta_t) of light refracted from outside, grows without bound as eta

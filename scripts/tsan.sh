@@ -17,7 +17,7 @@ cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Debug -DRETROPRISM_WERR
   -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" -DCMAKE_CXX_FLAGS="$flags -Wno-maybe-uninitialized" \
   -DCMAKE_EXE_LINKER_FLAGS="$flags" -DCMAKE_SHARED_LINKER_FLAGS="$flags" \
   -DRETROPRISM_PYTHON=OFF >/dev/null
-binaries="batch util sim photometry"
+binaries="batch util sim photometry physics"
 targets=""
 for b in $binaries; do targets="$targets retroprism_test_$b"; done
 # shellcheck disable=SC2086

@@ -279,6 +279,13 @@ TEST_CASE("bench --json prints the trade table's rows", "[cli]") {
     }
     CHECK(sawMrm);
     CHECK(sawFast);
+    // Node construction, made and kept, for each material with series.
+    REQUIRE(out["construction"].size() == 3);
+    for (const json& c : out["construction"]) {
+        CHECK(c["ms_made"].get<double>() > 0);
+        CHECK(c["ms_kept"].get<double>() > 0);
+    }
+    CHECK(out["construction"][0]["name"] == "exact_tir");
     CHECK(run("bench --min-time 100").status != 0);
     for (const char* reps : {"0", "21", "2.5", "x"}) {
         const Run bad = run(std::string("bench --repetitions ") + reps);

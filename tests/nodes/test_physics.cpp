@@ -28,6 +28,7 @@
 #include "baselines.h"
 #include "benchmarks.h"
 #include "cube_corner.h"
+#include "parallel.h"
 #include "test_support.h"
 
 using retroprism::Params;
@@ -772,6 +773,83 @@ TEST_CASE("The node's azimuth-average series match their integrals", "[physics]"
     std::printf("MEASURED: azimuth-average series of %d materials (%d-%d intervals) vs their "
                 "integrals: double %.1e relative, float %.1e of max(value, 0.3)\n",
                 materials, intervalsMin, intervalsMax, worst64, worst32);
+}
+
+// 3d. The series kept per process (azimuth_series): a node of a material already made copies its
+// series (a hit), bit for bit the one made; the cache holds kSeriesCacheEntries series, the least
+// recently used leaving first; nodes made at once on several threads read the same series.
+namespace {
+
+// The node's series as numbers (layout rp_azimuth_series: n, functions, t_0, n ends, then n
+// pieces of RP_SERIES_TERMS coefficients per function); empty when it has none. No assertion
+// here: it also runs on worker threads.
+std::vector<double> series_of(const Node& node) {
+    const double* s = node.core_material().azimuth_series;
+    if (s == nullptr) return {};
+    const std::size_t n = std::size_t(s[0]), functions = std::size_t(s[1]);
+    return std::vector<double>(s, s + 3 + n + n * functions * retroprism::f64::RP_SERIES_TERMS);
+}
+
+// A canted material no other test makes (its cant in hundredths of a degree apart).
+Params cache_material(int k, int prism) {
+    Params p;
+    p.prism_reflection = prism;
+    p.cant_angle = 7.31 + 0.01 * k;
+    p.ior = 1.5237;
+    return p;
+}
+
+} // namespace
+
+TEST_CASE("Nodes of one material share its azimuth-average series", "[physics]") {
+    using namespace retroprism;
+    const Params first = cache_material(0, f64::RP_PRISM_TIR);
+    const SeriesCacheStats before = azimuth_series_cache_stats();
+    const Node a(first);
+    const std::vector<double> made = series_of(a);
+    REQUIRE(!made.empty());
+    SeriesCacheStats now = azimuth_series_cache_stats();
+    CHECK(now.misses == before.misses + 1);
+    CHECK(now.hits == before.hits);
+    {
+        const Node again(first);
+        CHECK(series_of(again) == made);
+        const SeriesCacheStats next = azimuth_series_cache_stats();
+        CHECK(next.hits == now.hits + 1);
+        CHECK(next.misses == now.misses);
+        const dvec3 wi = dir_deg(35, 20), wo = dir_deg(34, 200);
+        CHECK(again.eval(wi, wo).f.retro.x == a.eval(wi, wo).f.retro.x);
+    }
+    // kSeriesCacheEntries other materials push the first out; the cache stays at its size.
+    for (int k = 1; k <= kSeriesCacheEntries; ++k)
+        Node(cache_material(k, f64::RP_PRISM_IDEAL));
+    now = azimuth_series_cache_stats();
+    CHECK(now.entries == kSeriesCacheEntries);
+    const Node remade(first);
+    const SeriesCacheStats last = azimuth_series_cache_stats();
+    CHECK(last.misses == now.misses + 1);
+    CHECK(series_of(remade) == made);
+    CHECK(last.entries == kSeriesCacheEntries);
+}
+
+TEST_CASE("Nodes made on several threads read the same series", "[physics][threads]") {
+    using namespace retroprism;
+    // Four materials, each made serially first (the reference), then 64 nodes of them on four
+    // threads while other materials come and go in the cache.
+    std::vector<std::vector<double>> reference;
+    for (int k = 0; k < 4; ++k)
+        reference.push_back(series_of(Node(cache_material(40 + k, f64::RP_PRISM_TIR))));
+    for (const std::vector<double>& r : reference)
+        REQUIRE(!r.empty());
+    std::vector<int> same(64, 0);
+    parallel_for(same.size(), 4, [&](std::size_t i) {
+        const int k = int(i % 4);
+        const Params p = i % 8 < 4 ? cache_material(40 + k, f64::RP_PRISM_TIR)
+                                   : cache_material(50 + int(i), f64::RP_PRISM_IDEAL);
+        const std::vector<double> s = series_of(Node(p));
+        same[i] = i % 8 < 4 ? int(s == reference[std::size_t(k)]) : int(!s.empty());
+    });
+    CHECK(std::count(same.begin(), same.end(), 1) == 64);
 }
 
 // ------------------------------------------------------------------------------------------
