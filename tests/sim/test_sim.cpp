@@ -917,6 +917,29 @@ TEST_CASE("The DG983 preset's R_A at the datasheet's entries against the simulat
                 table.c_str(), worst[0], worst[1]);
 }
 
+TEST_CASE("retroprism_geometry_scan ranks the geometries against a table", "[sim]") {
+    // The study program of docs/dihedral.md, on the DG983 table with few rays (its figures come
+    // from its own run): it scans the whole grid, ranks it and names bad arguments.
+    const std::string scan = std::string("\"") + RP_GEOMETRY_SCAN_PATH + "\" ";
+    const std::string table =
+        std::string("\"") + RP_SOURCE_DIR + "/examples/sheeting/dg983_white.csv\"";
+    const rptest::CommandRun ok = rptest::run_command(scan + table + " 0.008 2000");
+    INFO(ok.output);
+    REQUIRE(ok.status == 0);
+    CHECK(rptest::contains(ok.output, "324 geometries (matched pairs of ideal prisms"));
+    CHECK(rptest::contains(ok.output, "within 20% at every entry"));
+    CHECK(rptest::contains(ok.output, "(0.5, 45) (observation, entrance in degrees)"));
+    const rptest::CommandRun badRoughness = rptest::run_command(scan + table + " x");
+    CHECK(badRoughness.status != 0);
+    CHECK(rptest::contains(badRoughness.output, "ROUGHNESS x: expected a number in"));
+    const rptest::CommandRun badRays = rptest::run_command(scan + table + " 0.01 10");
+    CHECK(badRays.status != 0);
+    CHECK(rptest::contains(badRays.output, "RAYS 10: expected a number in"));
+    const rptest::CommandRun missing = rptest::run_command(scan + "/nonexistent/table.csv");
+    CHECK(missing.status != 0);
+    CHECK(rptest::contains(missing.output, "/nonexistent/table.csv"));
+}
+
 TEST_CASE("Single scattering on the rough top surface is the analytic surface lobe", "[sim]") {
     // The walk's paths that leave after one scattering event are the height-correlated
     // single-scattering microfacet BRDF F D G2 / (4 cos cos), the node's surface lobe. Cells of

@@ -1,0 +1,223 @@
+// geometry_scan: which truncated cube-corner geometries could reproduce a measured R_A table, by
+// geometric optics alone. For each cant and each triple of dihedral errors of a grid (the three
+// errors equal, one or two of them set, of either sign: per-face errors that the node's inputs do
+// not offer), the microgeometry simulator's pieces trace a matched pair of ideal prisms under a
+// rough top surface (the Smith walk of sim/microgeometry.h): rays enter at each entry's entrance
+// angle, the retroreflected ones leave through the surface, and R_A is the count in a cone of
+// kWindowDeg about the entry's observation direction per ray and steradian times cos(entrance),
+// the mean over rotations 0 and 90 degrees where the entry has no rotation (the entries of one
+// entrance and rotation share their rays; "fewest" is the smallest count behind an entry, whose
+// relative standard error is about 1 / sqrt of it). Each geometry's values
+// are scaled by the one factor that best fits the table in log space (the level that retro_color,
+// the metallisation and the substrate set), and ranked by their worst entry.
+//
+//   retroprism_geometry_scan TABLE.csv [ROUGHNESS [RAYS]]
+//
+// ROUGHNESS: Beckmann roughness of the top surface (default 0.008); RAYS: rays per entrance and
+// rotation (default 1e5). Deterministic: fixed seeds per geometry, whatever the thread count.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <exception>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "cube_corner.h"
+#include "microgeometry.h"
+#include "parallel.h"
+#include "parse.h"
+#include "photometry.h"
+#include "ra_table.h"
+
+using namespace retroprism;
+using glm::dvec3;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDeg = kPi / 180.0;
+constexpr double kWindowDeg = 0.04; // half-angle of the cone about each observation direction
+constexpr double kEta = 1.49;
+
+struct Geometry {
+    double cant = 0.0;
+    double errors[3] = {0.0, 0.0, 0.0}; // arcmin, between the two faces other than k
+    std::vector<double> ra;             // per entry, before scaling
+    std::uint64_t fewest = 0;           // the smallest count behind an entry
+    double scale = 0.0;
+    double worst = 0.0; // largest |scaled / measured - 1| over the entries
+};
+
+// The grid: cants from -15 to 15 degrees, and per magnitude a of 2, 4, 6 and 9 arcmin the error
+// triples (a, a, a), (-a, -a, -a), (a, 0, 0), (-a, 0, 0), (0, a, 0), (a, a, 0), (0, a, a),
+// (a, -a, 0), (a, 0, -a): a cant makes the faces unequal, so where a lone error sits matters.
+std::vector<Geometry> grid() {
+    std::vector<Geometry> out;
+    for (double cant : {-15.0, -11.0, -7.0, -3.0, 0.0, 3.0, 7.0, 11.0, 15.0}) {
+        for (double a : {2.0, 4.0, 6.0, 9.0}) {
+            const double triples[9][3] = {{a, a, a},  {-a, -a, -a}, {a, 0, 0},
+                                          {-a, 0, 0}, {0, a, 0},    {a, a, 0},
+                                          {0, a, a},  {a, -a, 0},   {a, 0, -a}};
+            for (const auto& t : triples) {
+                Geometry g;
+                g.cant = cant;
+                std::copy(t, t + 3, g.errors);
+                out.push_back(g);
+            }
+        }
+    }
+    return out;
+}
+
+// The rays of one entrance, presentation and rotation, and the entries they serve: each entry's
+// observation direction and its weight (1 over its rotations).
+struct Beam {
+    double entrance = 0.0, presentation = 0.0, rotation = 0.0;
+    std::vector<std::size_t> entry;
+    std::vector<dvec3> wo;
+    std::vector<double> weight;
+};
+
+std::vector<Beam> beams_of(const std::vector<RaEntry>& entries) {
+    std::vector<Beam> out;
+    for (std::size_t e = 0; e < entries.size(); ++e) {
+        const RaEntry& entry = entries[e];
+        const std::vector<double> rotations = entry.rotation_deg
+                                                  ? std::vector<double>{*entry.rotation_deg}
+                                                  : std::vector<double>{0.0, 90.0};
+        for (double rotation : rotations) {
+            auto it = std::find_if(out.begin(), out.end(), [&](const Beam& b) {
+                return b.entrance == entry.entrance_deg &&
+                       b.presentation == entry.presentation_deg && b.rotation == rotation;
+            });
+            if (it == out.end()) {
+                out.push_back({entry.entrance_deg, entry.presentation_deg, rotation, {}, {}, {}});
+                it = out.end() - 1;
+            }
+            dvec3 wi, wo;
+            ra_directions(entry.entrance_deg, entry.observation_deg, rotation, wi, wo,
+                          entry.presentation_deg);
+            it->entry.push_back(e);
+            it->wo.push_back(wo);
+            it->weight.push_back(1.0 / double(rotations.size()));
+        }
+    }
+    return out;
+}
+
+// Simulated R_A (up to the common scale) of geometry g at each entry, and the smallest count
+// behind one (its relative standard error is about 1 / sqrt of it).
+std::vector<double> simulate_entries(const Geometry& g, const std::vector<Beam>& beams,
+                                     std::size_t entries, double roughness, std::uint64_t rays,
+                                     std::uint64_t seed, std::uint64_t& fewest) {
+    sim::Sheet sheet;
+    sheet.alpha = roughness;
+    sheet.eta = kEta;
+    sheet.prism_reflection = f64::RP_PRISM_IDEAL;
+    sheet.dihedral_arcmin = 1.0; // trace_cube_corner then returns the traced exit direction
+    const sim::CubeCorner pair[2] = {sim::cube_corner(g.cant, g.errors, 0.0),
+                                     sim::cube_corner(g.cant, g.errors, kPi)};
+    const double cosWindow = std::cos(kWindowDeg * kDeg);
+    const double omega = 2.0 * kPi * (1.0 - cosWindow);
+    std::vector<double> ra(entries, 0.0);
+    fewest = ~std::uint64_t(0);
+    for (std::size_t b = 0; b < beams.size(); ++b) {
+        const Beam& beam = beams[b];
+        dvec3 wi, wo;
+        ra_directions(beam.entrance, 0.0, beam.rotation, wi, wo, beam.presentation);
+        sim::Rng rng(seed, b);
+        std::vector<std::uint64_t> count(beam.wo.size(), 0);
+        for (std::uint64_t i = 0; i < rays; ++i) {
+            const sim::Crossing in = sim::cross_top_surface(sheet, -wi, true, rng);
+            if (in.trapped || in.outside) continue;
+            dvec3 up;
+            if (sim::trace_cube_corner(sheet, pair[i & 1], in.dir, rng, &up) != sim::kPrismRetro)
+                continue;
+            const sim::Crossing out = sim::cross_top_surface(sheet, up, false, rng);
+            if (out.trapped || !out.outside) continue;
+            for (std::size_t k = 0; k < beam.wo.size(); ++k)
+                count[k] += glm::dot(out.dir, beam.wo[k]) >= cosWindow ? 1 : 0;
+        }
+        for (std::size_t k = 0; k < beam.wo.size(); ++k) {
+            ra[beam.entry[k]] += beam.weight[k] * double(count[k]) / (double(rays) * omega) * wi.z;
+            fewest = std::min(fewest, count[k]);
+        }
+    }
+    return ra;
+}
+
+// The scale that minimises the sum of squared log errors, and the worst relative error after it.
+void fit_scale(Geometry& g, const std::vector<RaEntry>& entries) {
+    double sumLog = 0.0;
+    for (size_t e = 0; e < entries.size(); ++e) {
+        if (!(g.ra[e] > 0)) {
+            g.scale = 0.0;
+            g.worst = 1.0; // an entry the geometry sends no light to
+            return;
+        }
+        sumLog += std::log(entries[e].ra / g.ra[e]);
+    }
+    g.scale = std::exp(sumLog / double(entries.size()));
+    g.worst = 0.0;
+    for (size_t e = 0; e < entries.size(); ++e)
+        g.worst = std::max(g.worst, std::abs(g.scale * g.ra[e] / entries[e].ra - 1.0));
+}
+
+double number_arg(const char* text, const char* what, double lo, double hi) {
+    const std::optional<double> v = try_parse_number(text);
+    if (!v || !(*v >= lo && *v <= hi))
+        throw std::runtime_error(std::string(what) + " " + text + ": expected a number in [" +
+                                 std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    return *v;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    try {
+        if (argc < 2 || argc > 4) {
+            std::fprintf(stderr, "usage: retroprism_geometry_scan TABLE.csv [ROUGHNESS [RAYS]]\n");
+            return 2;
+        }
+        const RaMeasurements table = read_ra_table(argv[1]);
+        const double roughness = argc > 2 ? number_arg(argv[2], "ROUGHNESS", 1e-3, 0.5) : 0.008;
+        const auto rays = std::uint64_t(argc > 3 ? number_arg(argv[3], "RAYS", 1e3, 1e9) : 1e5);
+        std::vector<Geometry> geometries = grid();
+        const std::vector<Beam> beams = beams_of(table.entries);
+        parallel_for(geometries.size(), 0, [&](std::size_t i) {
+            Geometry& g = geometries[i];
+            g.ra = simulate_entries(g, beams, table.entries.size(), roughness, rays, 1000 + i,
+                                    g.fewest);
+            fit_scale(g, table.entries);
+        });
+        std::sort(geometries.begin(), geometries.end(),
+                  [](const Geometry& a, const Geometry& b) { return a.worst < b.worst; });
+        const auto within20 = std::count_if(geometries.begin(), geometries.end(),
+                                            [](const Geometry& g) { return g.worst <= 0.2; });
+        std::printf("%zu geometries (matched pairs of ideal prisms, ior %.2f, roughness %g, %llu "
+                    "rays per entrance and rotation) against %s: %ld within 20%% at every entry\n",
+                    geometries.size(), kEta, roughness, static_cast<unsigned long long>(rays),
+                    table.file.c_str(), long(within20));
+        std::printf("\n%6s %17s %7s %7s  scaled / measured per entry\n", "cant", "errors (arcmin)",
+                    "worst", "fewest");
+        for (size_t i = 0; i < std::min<size_t>(10, geometries.size()); ++i) {
+            const Geometry& g = geometries[i];
+            std::printf("%6.1f %5.1f %5.1f %5.1f %6.1f%% %7llu ", g.cant, g.errors[0], g.errors[1],
+                        g.errors[2], 100.0 * g.worst, static_cast<unsigned long long>(g.fewest));
+            for (size_t e = 0; e < table.entries.size(); ++e)
+                std::printf(" %5.2f", g.scale * g.ra[e] / table.entries[e].ra);
+            std::printf("\n");
+        }
+        std::printf("\nentries:");
+        for (const RaEntry& e : table.entries)
+            std::printf(" (%g, %g)", e.observation_deg, e.entrance_deg);
+        std::printf(" (observation, entrance in degrees)\n");
+        return 0;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "retroprism_geometry_scan: %s\n", e.what());
+        return 1;
+    }
+}
