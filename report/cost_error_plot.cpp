@@ -40,18 +40,20 @@ OIIO::ImageBuf cost_error_figure(const std::vector<CostErrorPoint>& points, doub
     fig.panel_width = 870;
     fig.panel_height = 500;
     fig.pad_left = 60;
-    fig.pad_right = 10;
+    fig.pad_right = 30; // room for the last x label, centred on the edge
     fig.top = 20;
     fig.pad_top = 40;
     fig.pad_bottom = 30;
     fig.x_label = "ns per evaluation (log)";
     Panel pan;
+    // 10 ns to 1 us: every row is within; the labels of the most accurate rows stack downward
+    // from about 1e-7, so the error axis reaches 1e-10 to hold them above the axis's labels.
     pan.x.lo = 1;
-    pan.x.hi = 4;
+    pan.x.hi = 3;
     pan.x.log = true;
     pan.x.label = [](double d, double) { return fmt("%.0f ns", std::pow(10.0, d)); };
     pan.x.label_size = 15;
-    pan.y.lo = -8;
+    pan.y.lo = -10;
     pan.y.hi = 0;
     pan.y.log = true;
     pan.y.step = 2;
