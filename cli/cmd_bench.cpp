@@ -61,10 +61,6 @@ std::string fmt_err(double e) {
     return b;
 }
 
-// The GLSL variants' cost and MaterialX's own generated shaders' (bench/mx_cost.h), as tables
-// or JSON, each SPIR-V size also as a ratio to MaterialX's dielectric + Oren-Nayar shader's:
-// over all instructions, and over the code alone (without the constants' declarations, where
-// the node's tables are).
 // Node construction: ms per node of a material made for the first time, and per node whose
 // series the process kept.
 struct Construction {
@@ -92,6 +88,10 @@ void print_constructions(const std::vector<Construction>& constructions) {
                 kSeriesCacheEntries);
 }
 
+// The GLSL variants' cost and MaterialX's own generated shaders' (bench/mx_cost.h), as tables
+// or JSON, each SPIR-V size also as a ratio to MaterialX's dielectric + Oren-Nayar shader's:
+// over all instructions, and over the code alone (without the constants' declarations, where
+// the node's tables are).
 void print_glsl_costs(bool json) {
     const std::vector<bench::GlslCost> variants = bench::glsl_costs();
     const std::vector<bench::MxShaderCost> mx = bench::mx_shader_costs(data_dir());

@@ -20,8 +20,6 @@
 #include <cstdint>
 #include <cstdio>
 #include <exception>
-#include <optional>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -166,14 +164,6 @@ void fit_scale(Geometry& g, const std::vector<RaEntry>& entries) {
         g.worst = std::max(g.worst, std::abs(g.scale * g.ra[e] / entries[e].ra - 1.0));
 }
 
-double number_arg(const char* text, const char* what, double lo, double hi) {
-    const std::optional<double> v = try_parse_number(text);
-    if (!v || !(*v >= lo && *v <= hi))
-        throw std::runtime_error(std::string(what) + " " + text + ": expected a number in [" +
-                                 std::to_string(lo) + ", " + std::to_string(hi) + "]");
-    return *v;
-}
-
 } // namespace
 
 int main(int argc, char** argv) {
@@ -183,8 +173,9 @@ int main(int argc, char** argv) {
             return 2;
         }
         const RaMeasurements table = read_ra_table(argv[1]);
-        const double roughness = argc > 2 ? number_arg(argv[2], "ROUGHNESS", 1e-3, 0.5) : 0.008;
-        const auto rays = std::uint64_t(argc > 3 ? number_arg(argv[3], "RAYS", 1e3, 1e9) : 1e5);
+        const double roughness =
+            argc > 2 ? parse_number_in(argv[2], "ROUGHNESS", 1e-3, 0.5) : 0.008;
+        const std::uint64_t rays = argc > 3 ? parse_count(argv[3], "RAYS", 1e3, 1e9) : 100000;
         std::vector<Geometry> geometries = grid();
         const std::vector<Beam> beams = beams_of(table.entries);
         parallel_for(geometries.size(), 0, [&](std::size_t i) {

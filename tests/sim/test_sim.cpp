@@ -934,7 +934,7 @@ TEST_CASE("retroprism_geometry_scan ranks the geometries against a table", "[sim
     CHECK(rptest::contains(badRoughness.output, "ROUGHNESS x: expected a number in"));
     const rptest::CommandRun badRays = rptest::run_command(scan + table + " 0.01 10");
     CHECK(badRays.status != 0);
-    CHECK(rptest::contains(badRays.output, "RAYS 10: expected a number in"));
+    CHECK(rptest::contains(badRays.output, "RAYS 10: expected a whole number in"));
     const rptest::CommandRun missing = rptest::run_command(scan + "/nonexistent/table.csv");
     CHECK(missing.status != 0);
     CHECK(rptest::contains(missing.output, "/nonexistent/table.csv"));
