@@ -91,6 +91,11 @@ inline __attribute__((always_inline)) f32::rp_material specialised(const f32::rp
         m.era_mode = f32::RP_ERA_AVERAGED;
         m.canted = 0;
         m.dihedral = 0;
+        // The dihedral lobe's widths, 0 whenever `dihedral` is (rp_prepare): constants here, so
+        // that its ring and spread code (two more exp per query) folds away as well.
+        m.ring_par = real(0);
+        m.ring_tilt = real(0);
+        m.spread2 = real(0);
         m.reciprocal = 0;
         m.retro_anisotropic = 0;
         m.prism_reflection = M == Mode::TirFast ? f32::RP_PRISM_TIR : f32::RP_PRISM_IDEAL;
