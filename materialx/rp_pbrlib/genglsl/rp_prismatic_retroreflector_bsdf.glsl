@@ -2225,12 +2225,16 @@ float rp_beckmann_D(float tan2ThetaM, float invAlpha2) {
 // Smith Lambda of Beckmann (Walter et al. 2007, Eq. 27 with the exact erf) of a = 1/(alpha tan):
 // Lambda = (erf(a) - 1)/2 + exp(-a^2)/(2 a sqrt(pi)), written with erfc to avoid the
 // cancellation of erf(a) - 1; 0 for a > RP_LAMBDA_EXACT_CUT = 9 (Lambda < 1e-37 there).
-// exp and erfc get a clamped to the cut (as rp_beckmann_D's exp).
+// Beyond the cut (and for NaN) exp and erfc get a = 1 and the result is multiplied by 0: a
+// vectorised loop (the C++ batch kernels) evaluates them in every lane, where a larger a makes
+// float denormals (a microcode assist per instruction that meets one). A product rather than
+// a select, which would let the compiler drop the substitution (its value unused where it
+// applies) and pass every lane's own a.
 float rp_beckmann_lambda_of_a(float a) {
-    float ac = min(a, RP_LAMBDA_EXACT_CUT);
+    bool inside = a <= RP_LAMBDA_EXACT_CUT;
+    float ac = inside ? a : float(1.0);
     float lambda = float(0.5) * (exp(-ac * ac) * RP_INV_SQRT_PI / ac - rp_erfc(ac));
-    if (!(a <= RP_LAMBDA_EXACT_CUT)) return float(0.0);
-    return max(lambda, float(0.0));
+    return max(lambda, float(0.0)) * (inside ? float(1.0) : float(0.0));
 }
 
 // The same from tan^2(theta); tan = 0 -> 0.
@@ -2273,8 +2277,11 @@ vec2 rp_lambda_ratio(in rp_material m, float a) {
 vec2 rp_lambda_ratio_dir(in rp_material m, float c, float sin2) {
     float cut = RP_LAMBDA_EXACT_CUT;
     if (m.fidelity == RP_FIDELITY_FAST) cut = RP_LAMBDA_FAST_CUT;
-    if (!(c * c * m.inv_alpha2 < cut * cut * sin2)) return vec2(float(0.0), float(1.0));
-    return rp_lambda_ratio(m, c * m.inv_alpha / sqrt(sin2));
+    // RP_BIG (Lambda = 0) stands for a beyond the cut: chosen before Lambda's evaluation rather
+    // than returned early, so that a vectorised loop evaluates it at RP_BIG in those lanes (where
+    // an early return leaves their own a, whose exp(-a^2) makes float denormals).
+    bool inside = c * c * m.inv_alpha2 < cut * cut * sin2;
+    return rp_lambda_ratio(m, inside ? c * m.inv_alpha / sqrt(sin2) : RP_BIG);
 }
 
 // G1 = 1 / (1 + Lambda) of a Lambda ratio.
@@ -3037,7 +3044,9 @@ bool rp_to_local(vec3 fN, vec3 fT, vec3 fB, vec3 w, out vec3 local) {
     bool asIs = abs(len2 - float(1.0)) <= RP_UNIT_TOL;
     bool ok = len2 >= RP_TINY && len2 < RP_HUGE; // true when asIs
     vec3 wOk = ok ? w : vec3(float(0.0));
-    vec3 u = asIs ? wOk : wOk / sqrt(ok ? len2 : float(1.0));
+    // One division for the three components (a vectorised loop computes it in every lane).
+    float inv = asIs ? float(1.0) : float(1.0) / sqrt(ok ? len2 : float(1.0));
+    vec3 u = wOk * inv;
     local = vec3(dot(u, fT), dot(u, fB), dot(u, fN));
     return ok;
 }
@@ -3093,17 +3102,14 @@ void rp_incident_lobes(in rp_material m, vec3 wi, out rp_incident s) {
     s.cosThetaI = cosThetaI;
     float sinThetaI = sqrt(max(float(0.0), wi.x * wi.x + wi.y * wi.y));
     float cosI = max(cosThetaI, RP_MIN_COS);
-    // 1 / sin and 1 / cos over one division; a = 1 / (alpha tan) of wi, RP_BIG along the normal.
-    float invSinI = float(0.0);
-    float aI = RP_BIG;
-    if (sinThetaI > float(0.0)) {
-        float r = float(1.0) / (sinThetaI * cosI);
-        invSinI = cosI * r;
-        s.invCosI = sinThetaI * r;
-        aI = cosThetaI * m.inv_alpha * invSinI;
-    } else {
-        s.invCosI = float(1.0) / cosI;
-    }
+    // 1 / sin and 1 / cos over one division (along the normal sin is taken as 1 there, which
+    // leaves 1 / cos exact); a = 1 / (alpha tan) of wi, RP_BIG along the normal.
+    bool tilted = sinThetaI > float(0.0);
+    float sinOr1 = tilted ? sinThetaI : float(1.0);
+    float r = float(1.0) / (sinOr1 * cosI);
+    float invSinI = tilted ? cosI * r : float(0.0);
+    s.invCosI = sinOr1 * r;
+    float aI = tilted ? cosThetaI * m.inv_alpha * invSinI : RP_BIG;
     // cos_t^2 = (eta^2 - 1 + cos_i^2) / eta^2 (no cancellation at grazing for eta ~ 1).
     float cos2I = max(cosThetaI, float(0.0)) * max(cosThetaI, float(0.0));
     float cosThetaT = sqrt(m.eta2m1 + cos2I) * m.inv_eta;
