@@ -32,14 +32,19 @@ namespace {
 using f32::real;
 using f32::vec3;
 
-// Queries per block: the kernels write a block's results to these stack arrays and copy them to
-// the caller's non-null arrays, so that the vector loop stores unconditionally.
-constexpr std::size_t kBlock = 64;
+// Queries per kernel call (its set-up, such as the material's constants, is per call).
+constexpr std::size_t kBlock = 256;
 
-struct Block {
-    float v[9][kBlock]; // surface rgb, retro rgb, diffuse rgb
-    float pdf[kBlock];
-    float w[3][kBlock]; // sample: wo
+// A block's results: the kernels write each array of results to the caller's array where it is
+// given and to a scratch array of the block's where it is null, so that the vector loop stores
+// unconditionally and nothing is copied.
+constexpr int kOutputs = 13; // surface rgb, retro rgb, diffuse rgb, pdf, sampled wo xyz
+struct Sink {
+    float* v[kOutputs];
+    int* lobe;
+};
+struct Scratch {
+    float v[kOutputs][kBlock];
     int lobe[kBlock];
 };
 
@@ -163,58 +168,58 @@ inline __attribute__((always_inline)) Answer sample_query(const f32::rp_material
     return a;
 }
 
-inline __attribute__((always_inline)) void store(Block& blk, int k, const Answer& a) {
-    blk.v[0][k] = a.r.surface.x;
-    blk.v[1][k] = a.r.surface.y;
-    blk.v[2][k] = a.r.surface.z;
-    blk.v[3][k] = a.r.retro.x;
-    blk.v[4][k] = a.r.retro.y;
-    blk.v[5][k] = a.r.retro.z;
-    blk.v[6][k] = a.r.diffuse.x;
-    blk.v[7][k] = a.r.diffuse.y;
-    blk.v[8][k] = a.r.diffuse.z;
-    blk.pdf[k] = a.pdf;
-    blk.w[0][k] = a.wo.x;
-    blk.w[1][k] = a.wo.y;
-    blk.w[2][k] = a.wo.z;
-    blk.lobe[k] = a.lobe;
+inline __attribute__((always_inline)) void store(const Sink& out, int k, const Answer& a) {
+    out.v[0][k] = a.r.surface.x;
+    out.v[1][k] = a.r.surface.y;
+    out.v[2][k] = a.r.surface.z;
+    out.v[3][k] = a.r.retro.x;
+    out.v[4][k] = a.r.retro.y;
+    out.v[5][k] = a.r.retro.z;
+    out.v[6][k] = a.r.diffuse.x;
+    out.v[7][k] = a.r.diffuse.y;
+    out.v[8][k] = a.r.diffuse.z;
+    out.v[9][k] = a.pdf;
+    out.v[10][k] = a.wo.x;
+    out.v[11][k] = a.wo.y;
+    out.v[12][k] = a.wo.z;
+    out.lobe[k] = a.lobe;
 }
 
 // Query k of a block: nothing addressable in the vector loop's body itself (see eval_query).
 template <bool Sample, bool WantPdf, Mode M>
 inline __attribute__((always_inline)) void one_query(const f32::rp_material& m, const Frame& fr,
                                                      const Loader& loadI, const Loader& loadO,
-                                                     int k, Block& blk) {
+                                                     int k, const Sink& out) {
     if constexpr (Sample)
-        store(blk, k, sample_query(m, fr, loadI(k), loadO(k)));
+        store(out, k, sample_query(m, fr, loadI(k), loadO(k)));
     else
-        store(blk, k, eval_query<WantPdf, M>(m, fr, loadI(k), loadO(k)));
+        store(out, k, eval_query<WantPdf, M>(m, fr, loadI(k), loadO(k)));
 }
 
-// Queries [b, b + count) into blk: eval (with the pdf when WantPdf) in material mode M, or
+// Queries [b, b + count) into out: eval (with the pdf when WantPdf) in material mode M, or
 // sample.
 template <bool Sample, bool WantPdf, Mode M>
 inline __attribute__((always_inline)) void query_block(const Job& job, std::size_t b,
-                                                       std::size_t count, Block& blk) {
+                                                       std::size_t count, const Sink& out) {
     const f32::rp_material m = specialised<M>(*job.m);
     const Frame fr = job.frame;
     const Loader loadI(job.wi, b), loadO(job.wo, b);
     const int end = int(count);
 #pragma omp simd
     for (int k = 0; k < end; ++k)
-        one_query<Sample, WantPdf, M>(m, fr, loadI, loadO, k, blk);
+        one_query<Sample, WantPdf, M>(m, fr, loadI, loadO, k, out);
 }
 
 enum class Kind { Eval, EvalPdf, Sample };
 
 template <Kind K, Mode M>
 inline __attribute__((always_inline)) void run_block(const Job& job, std::size_t b,
-                                                     std::size_t count, Block& blk) {
-    query_block<K == Kind::Sample, K == Kind::EvalPdf, M>(job, b, count, blk);
+                                                     std::size_t count, const Sink& out) {
+    query_block<K == Kind::Sample, K == Kind::EvalPdf, M>(job, b, count, out);
 }
 
 // The kernels of one instruction set, by kind (eval, eval + pdf) and material mode, and sample.
-using BlockFn = void (*)(const Job&, std::size_t, std::size_t, Block&);
+using BlockFn = void (*)(const Job&, std::size_t, std::size_t, const Sink&);
 struct Kernels {
     BlockFn eval[2][4];
     BlockFn sample;
@@ -228,8 +233,8 @@ struct Kernels {
 #define RP_BATCH_ISA(NAME, ...)                                                                    \
     template <Kind K, Mode M>                                                                      \
     __VA_ARGS__ __attribute__((flatten, noinline)) void NAME(const Job& job, std::size_t b,        \
-                                                             std::size_t count, Block& blk) {      \
-        run_block<K, M>(job, b, count, blk);                                                       \
+                                                             std::size_t count, const Sink& out) { \
+        run_block<K, M>(job, b, count, out);                                                       \
     }                                                                                              \
     const Kernels NAME##_kernels = {                                                               \
         {RP_BATCH_MODES(NAME, Kind::Eval), RP_BATCH_MODES(NAME, Kind::EvalPdf)},                   \
@@ -255,35 +260,28 @@ const Kernels& kernels(SimdLevel level) {
     }
 }
 
-void copy_out(const float* from, float* to, std::size_t b, std::size_t count) {
-    if (to) std::copy(from, from + count, to + b);
+// Where block b's results go (see Sink).
+Sink sink_of(const Job& job, Kind kind, std::size_t b, Scratch& scratch) {
+    const BatchLobes& f = kind == Kind::Sample ? job.samples.f : job.f;
+    float* const given[kOutputs] = {f.surface.r,   f.surface.g,
+                                    f.surface.b,   f.retro.r,
+                                    f.retro.g,     f.retro.b,
+                                    f.diffuse.r,   f.diffuse.g,
+                                    f.diffuse.b,   kind == Kind::Sample ? job.samples.pdf : job.pdf,
+                                    job.samples.x, job.samples.y,
+                                    job.samples.z};
+    Sink out;
+    for (int c = 0; c < kOutputs; ++c)
+        out.v[c] = given[c] ? given[c] + b : scratch.v[c];
+    out.lobe = job.samples.lobe ? job.samples.lobe + b : scratch.lobe;
+    return out;
 }
 
-void copy_lobes(const Block& blk, const BatchLobes& f, std::size_t b, std::size_t count) {
-    float* const to[9] = {f.surface.r, f.surface.g, f.surface.b, f.retro.r,  f.retro.g,
-                          f.retro.b,   f.diffuse.r, f.diffuse.g, f.diffuse.b};
-    for (int c = 0; c < 9; ++c)
-        copy_out(blk.v[c], to[c], b, count);
-}
-
-// [begin, end) in blocks through one kernel; results copied to the caller's arrays.
+// [begin, end) in blocks through one kernel.
 void run_range(const Job& job, BlockFn fn, Kind kind, std::size_t begin, std::size_t end) {
-    Block blk;
-    for (std::size_t b = begin; b < end; b += kBlock) {
-        const std::size_t count = std::min(kBlock, end - b);
-        fn(job, b, count, blk);
-        if (kind == Kind::Sample) {
-            copy_lobes(blk, job.samples.f, b, count);
-            copy_out(blk.pdf, job.samples.pdf, b, count);
-            copy_out(blk.w[0], job.samples.x, b, count);
-            copy_out(blk.w[1], job.samples.y, b, count);
-            copy_out(blk.w[2], job.samples.z, b, count);
-            if (job.samples.lobe) std::copy(blk.lobe, blk.lobe + count, job.samples.lobe + b);
-        } else {
-            copy_lobes(blk, job.f, b, count);
-            copy_out(blk.pdf, job.pdf, b, count);
-        }
-    }
+    Scratch scratch;
+    for (std::size_t b = begin; b < end; b += kBlock)
+        fn(job, b, std::min(kBlock, end - b), sink_of(job, kind, b, scratch));
 }
 
 void run(const Job& job, Kind kind, std::size_t n, const BatchOptions& options) {
