@@ -1,14 +1,16 @@
-// batch.cpp: the node over batches (batch.h). Each kernel is one loop over the core's per-query
-// functions (prism_core.inc) under `#pragma omp simd`, written once (the always-inline templates
-// below) and compiled once per instruction set by the RP_BATCH_ISA functions, whose `flatten`
-// inlines the whole core into the loop so that GCC vectorises it; the core's exp, log, sin, cos
-// and erfc calls then go to glibc's libmvec through the `simd` declarations below (this file is
-// compiled with -fopenmp-simd -fno-math-errno, see CMakeLists.txt).
+// batch.cpp: the node over batches (batch.h). Each eval kernel is one loop over the core's
+// per-query functions (prism_core.inc) under `#pragma omp simd`, written once (the always-inline
+// templates below) and compiled once per instruction set by the RP_BATCH_ISA functions, whose
+// `flatten` inlines the whole core into the loop so that GCC vectorises it; the core's exp, log,
+// sin, cos and erfc calls then go to glibc's libmvec through the `simd` declarations below (this
+// file is compiled with -fopenmp-simd -fno-math-errno, see CMakeLists.txt). Sample is a plain
+// loop of its own (batch_sample.h).
 #include "batch.h"
 
 #include <algorithm>
 #include <cmath>
 
+#include "batch_sample.h"
 #include "parallel.h"
 
 // glibc declares its vector variants only under -ffast-math (bits/math-vector.h), whose
@@ -109,12 +111,10 @@ inline __attribute__((always_inline)) f32::rp_material specialised(const f32::rp
     return m;
 }
 
-// The answer to one query: its lobes, pdf, and for sample the direction and lobe.
+// The answer to one query of eval: its lobes and pdf.
 struct Answer {
     f32::rp_lobes r;
     real pdf;
-    vec3 wo;
-    int lobe;
 };
 
 // One query of eval, as the node's. Its locals live here rather than in the loop body, where
@@ -125,8 +125,6 @@ inline __attribute__((always_inline)) Answer eval_query(const f32::rp_material& 
     Answer a;
     vec3 wi, wo;
     a.pdf = real(0);
-    a.wo = vec3(real(0));
-    a.lobe = -1;
     // A direction the frame rejects comes back as 0, below the horizon.
     f32::rp_to_local(fr.n, fr.t, fr.b, wiWorld, wi);
     f32::rp_to_local(fr.n, fr.t, fr.b, woWorld, wo);
@@ -155,19 +153,6 @@ inline __attribute__((always_inline)) Answer eval_query(const f32::rp_material& 
     return a;
 }
 
-// One query of sample, as the node's: wo back in the parameter frame (0 for an empty sample).
-inline __attribute__((always_inline)) Answer sample_query(const f32::rp_material& m,
-                                                          const Frame& fr, vec3 wiWorld, vec3 u) {
-    Answer a;
-    vec3 wi, wo;
-    a.pdf = real(0);
-    a.lobe = -1;
-    f32::rp_to_local(fr.n, fr.t, fr.b, wiWorld, wi); // 0 (no sample) when rejected
-    f32::rp_sample(m, wi, u, wo, a.r, a.pdf, a.lobe);
-    a.wo = wo.x * fr.t + wo.y * fr.b + wo.z * fr.n;
-    return a;
-}
-
 inline __attribute__((always_inline)) void store(const Sink& out, int k, const Answer& a) {
     out.v[0][k] = a.r.surface.x;
     out.v[1][k] = a.r.surface.y;
@@ -179,26 +164,18 @@ inline __attribute__((always_inline)) void store(const Sink& out, int k, const A
     out.v[7][k] = a.r.diffuse.y;
     out.v[8][k] = a.r.diffuse.z;
     out.v[9][k] = a.pdf;
-    out.v[10][k] = a.wo.x;
-    out.v[11][k] = a.wo.y;
-    out.v[12][k] = a.wo.z;
-    out.lobe[k] = a.lobe;
 }
 
 // Query k of a block: nothing addressable in the vector loop's body itself (see eval_query).
-template <bool Sample, bool WantPdf, Mode M>
+template <bool WantPdf, Mode M>
 inline __attribute__((always_inline)) void one_query(const f32::rp_material& m, const Frame& fr,
                                                      const Loader& loadI, const Loader& loadO,
                                                      int k, const Sink& out) {
-    if constexpr (Sample)
-        store(out, k, sample_query(m, fr, loadI(k), loadO(k)));
-    else
-        store(out, k, eval_query<WantPdf, M>(m, fr, loadI(k), loadO(k)));
+    store(out, k, eval_query<WantPdf, M>(m, fr, loadI(k), loadO(k)));
 }
 
-// Queries [b, b + count) into out: eval (with the pdf when WantPdf) in material mode M, or
-// sample.
-template <bool Sample, bool WantPdf, Mode M>
+// Queries [b, b + count) into out: eval (with the pdf when WantPdf) in material mode M.
+template <bool WantPdf, Mode M>
 inline __attribute__((always_inline)) void query_block(const Job& job, std::size_t b,
                                                        std::size_t count, const Sink& out) {
     const f32::rp_material m = specialised<M>(*job.m);
@@ -207,7 +184,7 @@ inline __attribute__((always_inline)) void query_block(const Job& job, std::size
     const int end = int(count);
 #pragma omp simd
     for (int k = 0; k < end; ++k)
-        one_query<Sample, WantPdf, M>(m, fr, loadI, loadO, k, out);
+        one_query<WantPdf, M>(m, fr, loadI, loadO, k, out);
 }
 
 enum class Kind { Eval, EvalPdf, Sample };
@@ -215,15 +192,24 @@ enum class Kind { Eval, EvalPdf, Sample };
 template <Kind K, Mode M>
 inline __attribute__((always_inline)) void run_block(const Job& job, std::size_t b,
                                                      std::size_t count, const Sink& out) {
-    query_block<K == Kind::Sample, K == Kind::EvalPdf, M>(job, b, count, out);
+    query_block<K == Kind::EvalPdf, M>(job, b, count, out);
 }
 
-// The kernels of one instruction set, by kind (eval, eval + pdf) and material mode, and sample.
+// The kernels of one instruction set, by kind (eval, eval + pdf) and material mode, and sample
+// (one for every set: batch_sample.h).
 using BlockFn = void (*)(const Job&, std::size_t, std::size_t, const Sink&);
 struct Kernels {
     BlockFn eval[2][4];
     BlockFn sample;
 };
+
+// Sample over one block, with every array of results given (Sink).
+void sample_kernel(const Job& job, std::size_t b, std::size_t count, const Sink& out) {
+    const float* const wi[3] = {job.wi.x + b, job.wi.y + b, job.wi.z + b};
+    const float* const u[3] = {job.wo.x + b, job.wo.y + b, job.wo.z + b};
+    batch_detail::sample_block(*job.m, job.frame.n, job.frame.t, job.frame.b, wi, u, out.v,
+                               out.lobe, count);
+}
 
 #define RP_BATCH_MODES(NAME, K)                                                                    \
     {                                                                                              \
@@ -237,8 +223,7 @@ struct Kernels {
         run_block<K, M>(job, b, count, out);                                                       \
     }                                                                                              \
     const Kernels NAME##_kernels = {                                                               \
-        {RP_BATCH_MODES(NAME, Kind::Eval), RP_BATCH_MODES(NAME, Kind::EvalPdf)},                   \
-        NAME<Kind::Sample, Mode::General>};
+        {RP_BATCH_MODES(NAME, Kind::Eval), RP_BATCH_MODES(NAME, Kind::EvalPdf)}, sample_kernel};
 
 RP_BATCH_ISA(block_baseline, )
 RP_BATCH_ISA(block_sse42, RP_TARGET_SSE42)
