@@ -195,15 +195,14 @@ inline __attribute__((always_inline)) void run_block(const Job& job, std::size_t
     query_block<K == Kind::EvalPdf, M>(job, b, count, out);
 }
 
-// The kernels of one instruction set, by kind (eval, eval + pdf) and material mode, and sample
-// (one for every set: batch_sample.h).
+// The eval kernels of one instruction set, by kind (eval, eval + pdf) and material mode.
 using BlockFn = void (*)(const Job&, std::size_t, std::size_t, const Sink&);
 struct Kernels {
     BlockFn eval[2][4];
-    BlockFn sample;
 };
 
-// Sample over one block, with every array of results given (Sink).
+// Sample over one block, with every array of results given (Sink): one kernel for every
+// instruction set (batch_sample.h).
 void sample_kernel(const Job& job, std::size_t b, std::size_t count, const Sink& out) {
     const float* const wi[3] = {job.wi.x + b, job.wi.y + b, job.wi.z + b};
     const float* const u[3] = {job.wo.x + b, job.wo.y + b, job.wo.z + b};
@@ -223,7 +222,7 @@ void sample_kernel(const Job& job, std::size_t b, std::size_t count, const Sink&
         run_block<K, M>(job, b, count, out);                                                       \
     }                                                                                              \
     const Kernels NAME##_kernels = {                                                               \
-        {RP_BATCH_MODES(NAME, Kind::Eval), RP_BATCH_MODES(NAME, Kind::EvalPdf)}, sample_kernel};
+        {RP_BATCH_MODES(NAME, Kind::Eval), RP_BATCH_MODES(NAME, Kind::EvalPdf)}};
 
 RP_BATCH_ISA(block_baseline, )
 RP_BATCH_ISA(block_sse42, RP_TARGET_SSE42)
@@ -270,10 +269,10 @@ void run_range(const Job& job, BlockFn fn, Kind kind, std::size_t begin, std::si
 }
 
 void run(const Job& job, Kind kind, std::size_t n, const BatchOptions& options) {
-    const Kernels& k = kernels(options.level);
-    const BlockFn fn = kind == Kind::Sample
-                           ? k.sample
-                           : k.eval[kind == Kind::EvalPdf ? 1 : 0][int(mode_of(*job.m))];
+    const BlockFn fn =
+        kind == Kind::Sample
+            ? sample_kernel
+            : kernels(options.level).eval[kind == Kind::EvalPdf ? 1 : 0][int(mode_of(*job.m))];
     if (options.threads == 1 || n <= options.grain) {
         run_range(job, fn, kind, 0, n);
         return;
