@@ -195,19 +195,27 @@ function writeManifest(doc, material, shader, file) {
   fs.writeFileSync(file, JSON.stringify(manifest, null, 1) + '\n');
 }
 
-// Writes the shaders of every material of one document for one target; the failures.
-async function generateDocument(mx, file, name, hw, gen, ctx, stdlib, lib, outDir) {
+// Writes the shaders of every material of one document for one target; the failures. A
+// document is checked (documentProblems, whose validation of the document with the imported
+// libraries takes most of a generation's time) for the first target only: `checked` keeps the
+// verdict by file, and a document that failed is not generated for the other targets.
+async function generateDocument(mx, file, name, hw, gen, ctx, stdlib, lib, outDir, checked) {
+  if (checked.get(file) === false) return 0; // its errors are printed and counted once
   let doc;
   try {
     doc = await readDocument(mx, file, stdlib, lib);
   } catch (e) {
     console.log(`${file}: error: ${message(mx, e)}`);
+    checked.set(file, false);
     return 1;
   }
-  const problems = documentProblems(doc);
-  if (problems.length > 0) {
-    for (const p of problems) console.log(`${file}: error: ${p}`);
-    return 1;
+  if (!checked.has(file)) {
+    const problems = documentProblems(doc);
+    checked.set(file, problems.length === 0);
+    if (problems.length > 0) {
+      for (const p of problems) console.log(`${file}: error: ${p}`);
+      return 1;
+    }
   }
   const materials = doc.getMaterialNodes();
   if (materials.length === 0) {
@@ -310,10 +318,11 @@ async function main() {
         process.exit(2);
       }
     }
+    const checked = new Map();
     for (const name of targetNames) {
       const [generator, hw] = table[name];
       const { gen, ctx, stdlib } = await context(mx, generator, hw);
-      for (const file of files) failures += await generateDocument(mx, file, name, hw, gen, ctx, stdlib, lib, outDir);
+      for (const file of files) failures += await generateDocument(mx, file, name, hw, gen, ctx, stdlib, lib, outDir, checked);
     }
   } else {
     console.log('usage: node mx.cjs validate DOC... | implementations | generate [--portable] [--targets T,...] DOC... OUTDIR');
