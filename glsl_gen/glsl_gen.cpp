@@ -499,7 +499,7 @@ std::string generate_library(const Variant& v, const std::string& sourceDir) {
     out += part("nodes/generated/prism_tables.inc") + "\n";
     out += part("nodes/prism_core.inc") + "\n";
     if (v.diffuse)
-        out += "float rp_fdr_external(float eta) {\n    return rp_fdr_external_table(eta);\n}\n\n";
+        out += "float rp_fdr_external(float eta) {\n    return rp_fdr_external_series(eta);\n}\n\n";
     out += entry_point(v);
     return pack_tables(out);
 }

@@ -3,6 +3,7 @@
 // whose own tables are placeholders; it uses only the exact, oriented ERA.
 //
 //   retroprism_gen_tables OUT.inc
+#include <cmath>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -17,7 +18,7 @@ const int kEraAvgN = 2049; // nodes over t = tan(theta_t) in [0, sqrt 2]
 const int kHitsN = 513;    // metallized prisms' face hits: nodes over t in [0, sqrt 2]
 const int kTirNt = 129;    // fast tier's table of the uncoated average: nodes over t
 const int kTirNeta = 81;   // and over eta in [1, 3]
-const int kFdrN = 2049;    // F_dr table: nodes over eta in [1, 3]
+const int kFdrTerms = 16;  // F_dr series: Chebyshev terms over eta in [1, 3]
 const double kFdrEtaMax = 3.0;
 const double kTanMax = 1.41421356237309504880; // A = 0 beyond theta_t = 54.74 deg
 
@@ -33,6 +34,33 @@ void write_table(FILE* f, const char* name, const std::vector<double>& v) {
         std::fprintf(f, "%s%s", s.c_str(), i + 1 == v.size() ? "\n" : (i % 4 == 3 ? ",\n" : ", "));
     }
     std::fprintf(f, "RP_TABLE_END\n");
+}
+
+// The coefficient of ln(eta - 1) in the closed form of F_dr_ext (fdr_external): the only term
+// of it that is not analytic at eta = 1. The rest, S = F_dr_ext - g ln(eta - 1), is analytic on
+// a disc about [1, 3] reaching eta = +-i (where eta^2 + 1 = 0), so its Chebyshev series
+// converges geometrically.
+double fdr_log_weight(double eta) {
+    const double e2 = eta * eta;
+    return e2 * (e2 - 1.0) * (e2 - 1.0) / ((e2 + 1.0) * (e2 + 1.0) * (e2 + 1.0));
+}
+
+// Chebyshev coefficients c_j of S(eta) = sum_j c_j T_j(eta - 2), from S at 128 Chebyshev
+// points of [1, 3] (discrete orthogonality: exact for the first terms of a series that has
+// converged to rounding well before the 128th term).
+std::vector<double> fdr_series() {
+    const int m = 128;
+    const double pi = 3.14159265358979323846;
+    std::vector<double> c(kFdrTerms, 0.0);
+    for (int k = 0; k < m; ++k) {
+        const double theta = pi * (k + 0.5) / m;
+        const double eta = 2.0 + std::cos(theta);
+        const double s = fdr_external(eta) - fdr_log_weight(eta) * std::log(eta - 1.0);
+        for (int j = 0; j < kFdrTerms; ++j)
+            c[j] += 2.0 / m * s * std::cos(j * theta);
+    }
+    c[0] *= 0.5;
+    return c;
 }
 
 } // namespace
@@ -53,9 +81,7 @@ int main(int argc, char** argv) {
         for (int i = 0; i < kTirNt; ++i)
             tir[size_t(j) * kTirNt + i] = f64::rp_retro_fraction_averaged_exact(
                 kTanMax * i / (kTirNt - 1), 1.0 + 2.0 * j / (kTirNeta - 1), true);
-    std::vector<double> fdr(kFdrN);
-    for (int i = 0; i < kFdrN; ++i)
-        fdr[i] = fdr_external(1.0 + (kFdrEtaMax - 1.0) * i / (kFdrN - 1));
+    const std::vector<double> fdr = fdr_series();
     FILE* f = std::fopen(argv[1], "w");
     if (!f) {
         std::fprintf(stderr, "retroprism_gen_tables: cannot write %s\n", argv[1]);
@@ -96,14 +122,16 @@ int main(int argc, char** argv) {
     write_table(f, "rp_tir_avg_table", tir);
     std::fprintf(f, "// @rp-endif\n");
     std::fprintf(
-        f, "// rp_fdr_ext_table: F_dr_ext(eta), the outside hemispherical reflectance of the\n"
-           "// top surface (exact: retroprism::fdr_external), at eta = 1 + (RP_FDR_ETA_MAX - 1)\n"
-           "// i / (RP_FDR_N - 1), for backends without double precision; the C++ node\n"
-           "// computes it exactly.\n");
+        f, "// rp_fdr_ext_series: F_dr_ext(eta), the outside hemispherical reflectance of the\n"
+           "// top surface (exact: retroprism::fdr_external), for backends without double\n"
+           "// precision (the C++ node computes it exactly), as S(eta) + g(eta) ln(eta - 1) on\n"
+           "// eta in [1, RP_FDR_ETA_MAX]: g = eta^2 (eta^2 - 1)^2 / (eta^2 + 1)^3 is the closed\n"
+           "// form's only term not analytic at eta = 1, and S = sum_j c_j T_j(eta - 2), the\n"
+           "// table's RP_FDR_TERMS Chebyshev coefficients c_j of the analytic rest.\n");
     std::fprintf(f, "// @rp-if diffuse\n");
-    std::fprintf(f, "const int RP_FDR_N = %d;\n", kFdrN);
+    std::fprintf(f, "const int RP_FDR_TERMS = %d;\n", kFdrTerms);
     std::fprintf(f, "const real RP_FDR_ETA_MAX = real(%.1f);\n", kFdrEtaMax);
-    write_table(f, "rp_fdr_ext_table", fdr);
+    write_table(f, "rp_fdr_ext_series", fdr);
     std::fprintf(f, "// @rp-endif\n");
     std::fclose(f);
     return 0;

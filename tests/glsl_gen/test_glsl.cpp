@@ -116,7 +116,7 @@ TEST_CASE("Specialised variants leave out the code they do not use", "[glsl]") {
         auto has = [&](const char* s) { return text.find(s) != std::string::npos; };
         CHECK(has("rp_beckmann_sample_visible") == v.surface);
         CHECK(has("rp_retro_density") == v.retro);
-        CHECK(has("rp_fdr_ext_table") == v.diffuse);
+        CHECK(has("rp_fdr_ext_series") == v.diffuse);
         const bool averaged = v.era_mode < 0 || v.era_mode == 0;
         CHECK(has("rp_era_avg_table") == averaged);
         const bool metallized = v.prism_reflection < 0 || v.prism_reflection == 2;

@@ -1655,26 +1655,34 @@ TEST_CASE("Switched-off lobes contribute exactly zero and are never sampled", "[
     CHECK(samplesTaken > 10000);
 }
 
-TEST_CASE("F_dr table of the float backends is within 1e-6 of the exact value", "[physics]") {
-    // The GLSL backends read F_dr_ext from the generated table; what matters to them is the
-    // absolute error, since the diffuse lobe uses 1 - F_dr_ext and 1 - F_dr.
-    double worst = 0.0, worstEta = 0.0, worstFloat = 0.0;
+TEST_CASE("F_dr series of the float backends is within 1e-6 of the exact value", "[physics]") {
+    // The GLSL backends compute F_dr_ext from the generated series; what matters to them is the
+    // absolute error, since the diffuse lobe uses 1 - F_dr_ext and 1 - F_dr. The sweep includes
+    // eta = 1 exactly (F_dr_ext = 0, where the series' logarithm term must not make a NaN) and
+    // the points next to it, where F_dr_ext is least smooth.
+    double worst = 0.0, worstEta = 0.0, worstFloat = 0.0, worstFloatEta = 0.0;
     for (int i = 0; i <= 200000; ++i) {
-        const double eta = 1.0 + 2.0 * i / 200000.0;
+        const double eta = i < 100 ? 1.0 + 1e-9 * i * i : 1.0 + 2.0 * i / 200000.0;
         const double err =
-            std::abs(retroprism::f64::rp_fdr_external_table(eta) - retroprism::fdr_external(eta));
-        if (err > worst) {
+            std::abs(retroprism::f64::rp_fdr_external_series(eta) - retroprism::fdr_external(eta));
+        if (!(err <= worst)) {
             worst = err;
             worstEta = eta;
         }
-        worstFloat = std::max(worstFloat,
-                              std::abs(double(retroprism::f32::rp_fdr_external_table(float(eta))) -
-                                       retroprism::fdr_external(double(float(eta)))));
+        const double errFloat =
+            std::abs(double(retroprism::f32::rp_fdr_external_series(float(eta))) -
+                     retroprism::fdr_external(double(float(eta))));
+        if (!(errFloat <= worstFloat)) {
+            worstFloat = errFloat;
+            worstFloatEta = eta;
+        }
     }
-    std::printf("MEASURED: F_dr_ext table (linear, %d nodes): max abs error %.3g at eta %.6g\n",
-                retroprism::f64::RP_FDR_N, worst, worstEta);
+    std::printf("MEASURED: F_dr_ext series (%d Chebyshev terms and the logarithm term): max abs "
+                "error %.3g at eta %.6g (double), %.3g at eta %.6g (float)\n",
+                retroprism::f64::RP_FDR_TERMS, worst, worstEta, worstFloat, worstFloatEta);
     CHECK(worst <= 1e-6);
     CHECK(worstFloat <= 1e-6);
+    CHECK(retroprism::f32::rp_fdr_external_series(1.0f) == 0.0f);
 }
 
 TEST_CASE("Lobe albedo estimates (mixture weights, MaterialX INDIRECT) against albedo()",
