@@ -322,8 +322,8 @@ TEST_CASE("The node's GLSL variants against MaterialX's dielectric + Oren-Nayar 
     // Vulkan fragment shaders of the node's document and of dielectric_bsdf over
     // oren_nayar_diffuse_bsdf (bench/mx_cost.h), both compile and optimise, and the generated
     // variant with the averaged ERA and ideal prisms stays within twice the baseline's SPIR-V
-    // code (instructions other than constants' declarations; with its two tables' data it is
-    // larger, printed).
+    // instructions, its table data included, and within it in code alone (instructions other
+    // than constants' declarations).
     const std::vector<retroprism::bench::MxShaderCost> mx =
         retroprism::bench::mx_shader_costs(RP_SOURCE_DIR, false);
     REQUIRE(mx.size() == 2);
@@ -353,7 +353,8 @@ TEST_CASE("The node's GLSL variants against MaterialX's dielectric + Oren-Nayar 
                 "%.3fx in code\n",
                 baseline, baselineConstants, node, double(node) / double(baseline), name.c_str(),
                 variant, constants, all, code);
-    CHECK(code <= 2.0);
+    CHECK(all <= 2.0);
+    CHECK(code <= 1.0);
 }
 
 namespace {
