@@ -161,8 +161,7 @@ double fdr_external(double eta) {
     // 2e-10 relative for eta in [1.01, 3] by tests/nodes/test_physics.cpp).
     const double n2 = n * n, n4 = n2 * n2;
     return 0.5 + (n - 1) * (3 * n + 1) / (6 * (n + 1) * (n + 1)) +
-           n2 * (n2 - 1) * (n2 - 1) / ((n2 + 1) * (n2 + 1) * (n2 + 1)) *
-               std::log((n - 1) / (n + 1)) -
+           f64::rp_fdr_log_weight(n) * std::log((n - 1) / (n + 1)) -
            2 * n2 * n * (n2 + 2 * n - 1) / ((n2 + 1) * (n4 - 1)) +
            8 * n4 * (n4 + 1) / ((n2 + 1) * (n4 - 1) * (n4 - 1)) * std::log(n);
 }

@@ -36,26 +36,19 @@ void write_table(FILE* f, const char* name, const std::vector<double>& v) {
     std::fprintf(f, "RP_TABLE_END\n");
 }
 
-// The coefficient of ln(eta - 1) in the closed form of F_dr_ext (fdr_external): the only term
-// of it that is not analytic at eta = 1. The rest, S = F_dr_ext - g ln(eta - 1), is analytic on
-// a disc about [1, 3] reaching eta = +-i (where eta^2 + 1 = 0), so its Chebyshev series
-// converges geometrically.
-double fdr_log_weight(double eta) {
-    const double e2 = eta * eta;
-    return e2 * (e2 - 1.0) * (e2 - 1.0) / ((e2 + 1.0) * (e2 + 1.0) * (e2 + 1.0));
-}
-
-// Chebyshev coefficients c_j of S(eta) = sum_j c_j T_j(eta - 2), from S at 128 Chebyshev
-// points of [1, 3] (discrete orthogonality: exact for the first terms of a series that has
-// converged to rounding well before the 128th term).
+// Chebyshev coefficients c_j of S(eta) = F_dr_ext(eta) - g(eta) ln(eta - 1) (g:
+// rp_fdr_log_weight) = sum_j c_j T_j(u), u = (eta - mid) / half mapping [1, kFdrEtaMax] to
+// [-1, 1], from S at 128 Chebyshev points (discrete orthogonality: exact for the first terms of
+// a series that has converged to rounding well before the 128th term).
 std::vector<double> fdr_series() {
     const int m = 128;
     const double pi = 3.14159265358979323846;
+    const double mid = 0.5 * (kFdrEtaMax + 1.0), half = 0.5 * (kFdrEtaMax - 1.0);
     std::vector<double> c(kFdrTerms, 0.0);
     for (int k = 0; k < m; ++k) {
         const double theta = pi * (k + 0.5) / m;
-        const double eta = 2.0 + std::cos(theta);
-        const double s = fdr_external(eta) - fdr_log_weight(eta) * std::log(eta - 1.0);
+        const double eta = mid + half * std::cos(theta);
+        const double s = fdr_external(eta) - f64::rp_fdr_log_weight(eta) * std::log(eta - 1.0);
         for (int j = 0; j < kFdrTerms; ++j)
             c[j] += 2.0 / m * s * std::cos(j * theta);
     }
@@ -126,8 +119,9 @@ int main(int argc, char** argv) {
            "// top surface (exact: retroprism::fdr_external), for backends without double\n"
            "// precision (the C++ node computes it exactly), as S(eta) + g(eta) ln(eta - 1) on\n"
            "// eta in [1, RP_FDR_ETA_MAX]: g = eta^2 (eta^2 - 1)^2 / (eta^2 + 1)^3 is the closed\n"
-           "// form's only term not analytic at eta = 1, and S = sum_j c_j T_j(eta - 2), the\n"
-           "// table's RP_FDR_TERMS Chebyshev coefficients c_j of the analytic rest.\n");
+           "// form's only term not analytic at eta = 1, and S = sum_j c_j T_j(u), the table's\n"
+           "// RP_FDR_TERMS Chebyshev coefficients c_j of the analytic rest in u = (2 eta - 1 -\n"
+           "// RP_FDR_ETA_MAX) / (RP_FDR_ETA_MAX - 1).\n");
     std::fprintf(f, "// @rp-if diffuse\n");
     std::fprintf(f, "const int RP_FDR_TERMS = %d;\n", kFdrTerms);
     std::fprintf(f, "const real RP_FDR_ETA_MAX = real(%.1f);\n", kFdrEtaMax);

@@ -1739,8 +1739,9 @@ float rp_tir_avg_table_at(int i) {
 // top surface (exact: retroprism::fdr_external), for backends without double
 // precision (the C++ node computes it exactly), as S(eta) + g(eta) ln(eta - 1) on
 // eta in [1, RP_FDR_ETA_MAX]: g = eta^2 (eta^2 - 1)^2 / (eta^2 + 1)^3 is the closed
-// form's only term not analytic at eta = 1, and S = sum_j c_j T_j(eta - 2), the
-// table's RP_FDR_TERMS Chebyshev coefficients c_j of the analytic rest.
+// form's only term not analytic at eta = 1, and S = sum_j c_j T_j(u), the table's
+// RP_FDR_TERMS Chebyshev coefficients c_j of the analytic rest in u = (2 eta - 1 -
+// RP_FDR_ETA_MAX) / (RP_FDR_ETA_MAX - 1).
 const int RP_FDR_TERMS = 16;
 const float RP_FDR_ETA_MAX = float(3.0);
 const vec4 rp_fdr_ext_series_v4[4] = vec4[4](
@@ -2610,13 +2611,26 @@ float rp_metal_passed_s(in rp_material m, vec3 d, float sinThetaT) {
 
 // ---- Material preparation ----------------------------------------------------------------
 
+// The coefficient g of ln(eta - 1) in the closed form of F_dr_ext (fdr_external):
+// eta^2 (eta^2 - 1)^2 / (eta^2 + 1)^3, the closed form's only term not analytic at eta = 1. The
+// rest, S = F_dr_ext - g ln(eta - 1), is analytic on a neighbourhood of [1, RP_FDR_ETA_MAX]
+// reaching eta = +-i (where eta^2 + 1 = 0), so its Chebyshev series converges geometrically
+// (tools/gen_tables.cpp fits it; fdr_external and rp_fdr_external_series use this g).
+float rp_fdr_log_weight(float eta) {
+    float e2 = eta * eta;
+    return e2 * (e2 - float(1.0)) * (e2 - float(1.0)) /
+           ((e2 + float(1.0)) * (e2 + float(1.0)) * (e2 + float(1.0)));
+}
+
 // F_dr_ext(eta) from the generated series: the GLSL prelude's rp_fdr_external (within 1e-6 of
-// the exact value; tests/test_physics.cpp measures it). S(eta) by Clenshaw's recurrence, then
-// g(eta) ln(eta - 1), which is 0 at eta = 1 (g = 0 there; the logarithm's argument is kept
-// positive so that 0 * -inf cannot make a NaN).
+// the exact value; tests/test_physics.cpp measures it). S(eta) by Clenshaw's recurrence in
+// u = (eta - mid) / half, [1, RP_FDR_ETA_MAX] mapped to [-1, 1], then g(eta) ln(eta - 1), which
+// is 0 at eta = 1 (g = 0 there; the logarithm's argument is kept positive so that 0 * -inf
+// cannot make a NaN).
 float rp_fdr_external_series(float eta) {
     float e = clamp(eta, float(1.0), RP_FDR_ETA_MAX);
-    float u = e - float(2.0);
+    float u =
+        (e - float(0.5) * (RP_FDR_ETA_MAX + float(1.0))) / (float(0.5) * (RP_FDR_ETA_MAX - float(1.0)));
     float b1 = float(0.0);
     float b2 = float(0.0);
     for (int j = RP_FDR_TERMS - 1; j >= 1; --j) {
@@ -2625,10 +2639,7 @@ float rp_fdr_external_series(float eta) {
         b1 = b0;
     }
     float s = rp_fdr_ext_series_at(0) + u * b1 - b2;
-    float e2 = e * e;
-    float g = e2 * (e2 - float(1.0)) * (e2 - float(1.0)) /
-             ((e2 + float(1.0)) * (e2 + float(1.0)) * (e2 + float(1.0)));
-    return s + g * log(max(e - float(1.0), float(1e-30)));
+    return s + rp_fdr_log_weight(e) * log(max(e - float(1.0), float(1e-30)));
 }
 
 // The per-shading-point constants from sanitised inputs (each in its table range, enums as
