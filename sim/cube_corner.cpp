@@ -16,17 +16,71 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kArcmin = kPi / (180.0 * 60.0);
 
-// The corner of the face normals `normal` (in the cube's frame; `perfect`: the unit axes, when
-// the edges are the normals themselves) at cant `cantDeg` and orientation `psi`.
-CubeCorner corner_of_normals(double cantDeg, const dvec3 normal[3], bool perfect, double psi) {
+// The sheet's frame in the cube's at cant `cantDeg` and orientation `psi`: the normal
+// n = normalize(a cos(cant) + u sin(cant)), x toward e_1's projection, y = n x x, and the
+// rotation by psi (c, s) that carries them to the sheet's axes.
+struct SheetFrame {
+    dvec3 x, y, n;
+    double c, s;
+};
+
+SheetFrame sheet_frame(double cantDeg, double psi) {
     const double cant = cantDeg * (kPi / 180.0);
     const dvec3 a = glm::normalize(dvec3(1.0, 1.0, 1.0));
     const dvec3 u = glm::normalize(dvec3(2.0, -1.0, -1.0));
-    const dvec3 n = glm::normalize(a * std::cos(cant) + u * std::sin(cant));
-    // The sheet's frame in the cube's: x toward e_1's projection, z = n.
-    const dvec3 x = glm::normalize(dvec3(1.0, 0.0, 0.0) - n.x * n);
-    const dvec3 y = glm::cross(n, x);
-    const double c = std::cos(psi), s = std::sin(psi);
+    SheetFrame f;
+    f.n = glm::normalize(a * std::cos(cant) + u * std::sin(cant));
+    f.x = glm::normalize(dvec3(1.0, 0.0, 0.0) - f.n.x * f.n);
+    f.y = glm::cross(f.n, f.x);
+    f.c = std::cos(psi);
+    f.s = std::sin(psi);
+    return f;
+}
+
+// The inward face normals (cube's frame) of the corner whose dihedral angles are 90 degrees plus
+// dihedralArcmin[k] between the two faces other than k: G_ij = e_i.e_j = sin(that error), e =
+// G^(1/2) applied to the axes (the symmetric square root).
+void gram_normals(const double dihedralArcmin[3], dvec3 normal[3]) {
+    glm::dmat3 g(1.0);
+    for (int k = 0; k < 3; ++k) {
+        const int i = (k + 1) % 3, j = (k + 2) % 3;
+        g[i][j] = g[j][i] = std::sin(dihedralArcmin[k] * kArcmin);
+    }
+    // Its principal square root by Newton's iteration from the identity, X <- (X + X^-1 G) / 2:
+    // quadratic convergence, G being within a few 1e-2 of the identity.
+    glm::dmat3 root(1.0);
+    for (int it = 0; it < 50; ++it) {
+        const glm::dmat3 next = 0.5 * (root + glm::inverse(root) * g);
+        double change = 0;
+        for (int c = 0; c < 3; ++c)
+            for (int r = 0; r < 3; ++r)
+                change = std::max(change, std::abs(next[c][r] - root[c][r]));
+        root = next;
+        if (change < 1e-16) break;
+    }
+    for (int k = 0; k < 3; ++k)
+        normal[k] = glm::normalize(dvec3(root[0][k], root[1][k], root[2][k]));
+}
+
+// A face hit at the cosine cosK: kPrismRetro when the ray is reflected (always by ideal faces; by
+// internal Fresnel reflection for tir prisms, else transmitted; with the metal's reflectance for
+// metallized ones, else absorbed), else the outcome that ends it.
+PrismOutcome face_loss(const Sheet& sheet, double cosK, Rng& rng) {
+    const bool tir = sheet.prism_reflection == f64::RP_PRISM_TIR;
+    const double reflectance =
+        tir ? f64::rp_fresnel_internal(cosK, sheet.eta)
+            : (sheet.prism_reflection == f64::RP_PRISM_METALLIZED ? sheet.metal_reflectance : 1.0);
+    if (reflectance < 1.0 && rng.uniform() >= reflectance)
+        return tir ? kPrismTransmitted : kPrismAbsorbed;
+    return kPrismRetro;
+}
+
+// The corner of the face normals `normal` (in the cube's frame; `perfect`: the unit axes, when
+// the edges are the normals themselves) at cant `cantDeg` and orientation `psi`.
+CubeCorner corner_of_normals(double cantDeg, const dvec3 normal[3], bool perfect, double psi) {
+    const SheetFrame f = sheet_frame(cantDeg, psi);
+    const dvec3 &x = f.x, &y = f.y, &n = f.n;
+    const double c = f.c, s = f.s;
     dvec3 edge[3];
     for (int k = 0; k < 3; ++k) {
         // The edge opposite face k: along the other two faces, into the solid.
@@ -67,27 +121,8 @@ CubeCorner cube_corner(double cantDeg, double dihedralArcmin, double psi) {
 }
 
 CubeCorner cube_corner(double cantDeg, const double dihedralArcmin[3], double psi) {
-    // G_ij = e_i.e_j = sin(error of the angle between faces i and j, the one along edge k).
-    glm::dmat3 g(1.0);
-    for (int k = 0; k < 3; ++k) {
-        const int i = (k + 1) % 3, j = (k + 2) % 3;
-        g[i][j] = g[j][i] = std::sin(dihedralArcmin[k] * kArcmin);
-    }
-    // Its principal square root by Newton's iteration from the identity, X <- (X + X^-1 G) / 2:
-    // quadratic convergence, G being within a few 1e-2 of the identity.
-    glm::dmat3 root(1.0);
-    for (int it = 0; it < 50; ++it) {
-        const glm::dmat3 next = 0.5 * (root + glm::inverse(root) * g);
-        double change = 0;
-        for (int c = 0; c < 3; ++c)
-            for (int r = 0; r < 3; ++r)
-                change = std::max(change, std::abs(next[c][r] - root[c][r]));
-        root = next;
-        if (change < 1e-16) break;
-    }
     dvec3 normal[3];
-    for (int k = 0; k < 3; ++k)
-        normal[k] = glm::normalize(dvec3(root[0][k], root[1][k], root[2][k]));
+    gram_normals(dihedralArcmin, normal);
     return corner_of_normals(cantDeg, normal, false, psi);
 }
 
@@ -127,19 +162,75 @@ PrismOutcome trace_cube_corner(const Sheet& sheet, const CubeCorner& cc, const d
         x += tHit * d;
         x -= glm::dot(x, cc.e[face]) * cc.e[face]; // on the face plane
         const double cosK = -glm::dot(d, cc.e[face]);
-        const bool tir = sheet.prism_reflection == f64::RP_PRISM_TIR;
-        const double reflectance =
-            tir ? f64::rp_fresnel_internal(cosK, sheet.eta)
-                : (sheet.prism_reflection == f64::RP_PRISM_METALLIZED ? sheet.metal_reflectance
-                                                                      : 1.0);
-        if (reflectance < 1.0 && rng.uniform() >= reflectance)
-            return tir ? kPrismTransmitted : kPrismAbsorbed;
+        if (const PrismOutcome lost = face_loss(sheet, cosK, rng); lost != kPrismRetro) return lost;
         d += 2.0 * cosK * cc.e[face];
         ++reflections;
     }
     if (reflections != 3) return kPrismMiss;
     if (exit) *exit = sheet.dihedral_arcmin != 0.0 || sheet.dihedral_spread_arcmin != 0.0 ? d : -d0;
     return kPrismRetro;
+}
+
+FullCubeArray full_cube_array(const double dihedralArcmin[3], double psi) {
+    FullCubeArray array;
+    gram_normals(dihedralArcmin, array.e);
+    const SheetFrame f = sheet_frame(0.0, psi);
+    // The sheet's axes: the vectors w with (c w.x - s w.y, s w.x + c w.y, w.n) a unit axis.
+    array.axis[0] = f.c * f.x - f.s * f.y;
+    array.axis[1] = f.s * f.x + f.c * f.y;
+    array.axis[2] = f.n;
+    return array;
+}
+
+PrismOutcome trace_full_cube(const Sheet& sheet, const FullCubeArray& array, const dvec3& d0,
+                             Rng& rng, dvec3* exit) {
+    if (!(d0.z < 0)) return kPrismMiss;
+    // Entry: a uniform point of one period of the lattice of apexes (spanned by (1,-1,0) and
+    // (0,1,-1)) on the plane x + y + z = 2, the top of the surface; its cell is plastic (the
+    // floors of a point with x + y + z = 2 sum to more than -1).
+    const double u = rng.uniform(), v = rng.uniform();
+    dvec3 x = dvec3(2.0 / 3.0) + u * dvec3(1.0, -1.0, 0.0) + v * dvec3(0.0, 1.0, -1.0);
+    glm::ivec3 cell(int(std::floor(x.x)), int(std::floor(x.y)), int(std::floor(x.z)));
+    dvec3 d = d0.x * array.axis[0] + d0.y * array.axis[1] + d0.z * array.axis[2];
+    int hits[3] = {0, 0, 0};
+    bool out = false;
+    for (int step = 0; step < kMaxFullCubeSteps && !out; ++step) {
+        // The cell's nearest boundary ahead.
+        int axis = -1;
+        double tHit = std::numeric_limits<double>::infinity();
+        for (int k = 0; k < 3; ++k) {
+            if (d[k] == 0.0) continue;
+            const double boundary = d[k] > 0 ? cell[k] + 1.0 : double(cell[k]);
+            const double t = std::max(0.0, (boundary - x[k]) / d[k]);
+            if (t < tHit) {
+                tHit = t;
+                axis = k;
+            }
+        }
+        if (axis < 0) break;
+        x += tHit * d;
+        x[axis] = d[axis] > 0 ? cell[axis] + 1.0 : double(cell[axis]);
+        glm::ivec3 next = cell;
+        next[axis] += d[axis] > 0 ? 1 : -1;
+        if (next.x + next.y + next.z >= 0) {
+            // Plastic ahead; above x + y + z = 3 an upward ray meets no face again.
+            cell = next;
+            out = cell.x + cell.y + cell.z >= 3 && d.x + d.y + d.z > 0;
+            continue;
+        }
+        // Air ahead: the face x[axis] = cell[axis] of the cube whose apex is the cell's corner.
+        const dvec3& e = array.e[axis];
+        const double cosK = -glm::dot(d, e);
+        if (!(cosK > 0)) return kPrismMiss; // a turned normal that the ray grazes
+        if (const PrismOutcome lost = face_loss(sheet, cosK, rng); lost != kPrismRetro) return lost;
+        d += 2.0 * cosK * e;
+        ++hits[axis];
+    }
+    if (!out) return kPrismMiss;
+    if (exit)
+        *exit = dvec3(glm::dot(d, array.axis[0]), glm::dot(d, array.axis[1]),
+                      glm::dot(d, array.axis[2]));
+    return (hits[0] & hits[1] & hits[2] & 1) ? kPrismRetro : kPrismMiss;
 }
 
 } // namespace sim

@@ -37,6 +37,37 @@ CubeCorner cube_corner(double cantDeg, double dihedralArcmin, double psi);
 // sheet's frame and the aperture as above. Errors may be negative (angles below 90 degrees).
 CubeCorner cube_corner(double cantDeg, const double dihedralArcmin[3], double psi);
 
+// An array of full cube corners (hexagonal apertures, cant 0), the back surface of a sheet whose
+// cubes are not truncated: in the cube's frame the plastic is the union of the unit cells
+// [i, i+1] x [j, j+1] x [k, k+1] with i + j + k >= 0 and the air below it the cells with
+// i + j + k <= -1, so that every lattice point with i + j + k = 0 is the apex of a cube corner
+// whose faces are the three unit squares x = i, y = j, z = k that meet there (seen along the
+// axis a = (1,1,1) / sqrt3, the sheet normal, each aperture a regular hexagon, the surface
+// between heights 0 and 2 / sqrt3 along a). A ray may meet faces of neighbouring cubes: the trace
+// walks the cells along it (a 3D digital differential analyser) and reflects wherever the next
+// cell is air. Dihedral errors turn each face's reflection normal as for the truncated corner
+// (the Gram-matrix normals, the same for every cube); the faces keep their place (a shift of
+// order delta times the cube's size, which moves no exit direction).
+struct FullCubeArray {
+    dvec3 e[3];    // reflection normals of the faces x = i, y = j, z = k, in the cube's frame
+    dvec3 axis[3]; // the sheet frame's axes (x, y, z = the normal) in the cube's frame
+};
+
+// The array of orientation `psi` (the projection of the cube's x axis at azimuth psi in the
+// sheet's frame, as for cube_corner) and per-face dihedral errors.
+FullCubeArray full_cube_array(const double dihedralArcmin[3], double psi);
+
+// A downward ray of direction d (sheet frame, unit, d.z < 0) enters the sheet at a uniform point
+// and is traced through the array with the sheet's face reflectance (as trace_cube_corner). It is
+// retroreflected when it leaves after an odd number of reflections on each of the three face
+// orientations (the product of the reflections is then -I for perfect faces, whichever cubes it
+// met), else a miss; `exit` (when not null) receives the traced exit direction of either, in the
+// sheet's frame. A ray still below the surface after kMaxFullCubeSteps cells, or grazing a turned
+// face, is a miss without an exit direction.
+constexpr int kMaxFullCubeSteps = 10000;
+PrismOutcome trace_full_cube(const Sheet& sheet, const FullCubeArray& array, const dvec3& d,
+                             Rng& rng, dvec3* exit = nullptr);
+
 // The perfect (90-degree) canted corner: cube_corner(cantDeg, 0, psi).
 CubeCorner canted_cube_corner(double cantDeg, double psi);
 

@@ -1,17 +1,18 @@
-// geometry_scan: which truncated cube-corner geometries could reproduce a measured R_A table, by
-// geometric optics alone. For each cant and each triple of dihedral errors of a grid (the three
-// errors equal, one or two of them set, of either sign: per-face errors that the node's inputs do
-// not offer), the microgeometry simulator's pieces trace a matched pair of ideal prisms under a
-// rough top surface (the Smith walk of sim/microgeometry.h): rays enter at each entry's entrance
-// angle, the retroreflected ones leave through the surface, and R_A is the count in a cone of
-// kWindowDeg about the entry's observation direction per ray and steradian times cos(entrance),
-// the mean over rotations 0 and 90 degrees where the entry has no rotation (the entries of one
-// entrance and rotation share their rays; "fewest" is the smallest count behind an entry, whose
-// relative standard error is about 1 / sqrt of it). Each geometry's values
-// are scaled by the one factor that best fits the table in log space (the level that retro_color,
-// the metallisation and the substrate set), and ranked by their worst entry.
+// geometry_scan: which cube-corner geometries could reproduce a measured R_A table, by geometric
+// optics alone: truncated cubes, or with `--full` arrays of full cubes (sim/cube_corner.h). For
+// each cant and each triple of dihedral errors of a grid (the three errors equal, one or two of
+// them set, of either sign: per-face errors that the node's inputs do not offer), the microgeometry
+// simulator's pieces trace a matched pair of ideal prisms under a rough top surface (the Smith walk
+// of sim/microgeometry.h): rays enter at each entry's entrance angle, the retroreflected ones leave
+// through the surface, and R_A is the count in a cone of kWindowDeg about the entry's observation
+// direction per ray and steradian times cos(entrance), the mean over rotations 0 and 90 degrees
+// where the entry has no rotation (the entries of one entrance and rotation share their rays;
+// "fewest" is the smallest count behind an entry, whose relative standard error is about 1 / sqrt
+// of it). Each geometry's values are scaled by the one factor that best fits the table in log space
+// (the level that retro_color, the metallisation and the substrate set), and ranked by their worst
+// entry.
 //
-//   retroprism_geometry_scan TABLE.csv [ROUGHNESS [RAYS]]
+//   retroprism_geometry_scan [--full] TABLE.csv [ROUGHNESS [RAYS]]
 //
 // ROUGHNESS: Beckmann roughness of the top surface (default 0.008); RAYS: rays per entrance and
 // rotation (default 1e5). Deterministic: fixed seeds per geometry, whatever the thread count.
@@ -41,6 +42,7 @@ constexpr double kWindowDeg = 0.04; // half-angle of the cone about each observa
 constexpr double kEta = 1.49;
 
 struct Geometry {
+    bool full = false; // an array of full cubes (sim::trace_full_cube), cant 0
     double cant = 0.0;
     double errors[3] = {0.0, 0.0, 0.0}; // arcmin, between the two faces other than k
     std::vector<double> ra;             // per entry, before scaling
@@ -49,24 +51,35 @@ struct Geometry {
     double worst = 0.0; // largest |scaled / measured - 1| over the entries
 };
 
-// The grid: cants from -15 to 15 degrees, and per magnitude a of 2, 4, 6 and 9 arcmin the error
-// triples (a, a, a), (-a, -a, -a), (a, 0, 0), (-a, 0, 0), (0, a, 0), (a, a, 0), (0, a, a),
-// (a, -a, 0), (a, 0, -a): a cant makes the faces unequal, so where a lone error sits matters.
-std::vector<Geometry> grid() {
-    std::vector<Geometry> out;
-    for (double cant : {-15.0, -11.0, -7.0, -3.0, 0.0, 3.0, 7.0, 11.0, 15.0}) {
-        for (double a : {2.0, 4.0, 6.0, 9.0}) {
-            const double triples[9][3] = {{a, a, a},  {-a, -a, -a}, {a, 0, 0},
-                                          {-a, 0, 0}, {0, a, 0},    {a, a, 0},
-                                          {0, a, a},  {a, -a, 0},   {a, 0, -a}};
-            for (const auto& t : triples) {
-                Geometry g;
-                g.cant = cant;
-                std::copy(t, t + 3, g.errors);
-                out.push_back(g);
-            }
-        }
+// The error triples of magnitude a: (a, a, a), (-a, -a, -a), (a, 0, 0), (-a, 0, 0), (0, a, 0),
+// (a, a, 0), (0, a, a), (a, -a, 0), (a, 0, -a): a cant makes the faces unequal, so where a lone
+// error sits matters.
+void add_triples(std::vector<Geometry>& out, bool full, double cant, double a) {
+    const double triples[9][3] = {{a, a, a}, {-a, -a, -a}, {a, 0, 0},  {-a, 0, 0}, {0, a, 0},
+                                  {a, a, 0}, {0, a, a},    {a, -a, 0}, {a, 0, -a}};
+    for (const auto& t : triples) {
+        Geometry g;
+        g.full = full;
+        g.cant = cant;
+        std::copy(t, t + 3, g.errors);
+        out.push_back(g);
     }
+}
+
+// The grid of truncated cubes: cants from -15 to 15 degrees and error magnitudes of 2, 4, 6 and 9
+// arcmin; of full cubes (`--full`): cant 0, the perfect cube and magnitudes of 1, 2, 3, 4, 6 and
+// 9 arcmin.
+std::vector<Geometry> grid(bool full) {
+    std::vector<Geometry> out;
+    if (full) {
+        out.push_back(Geometry{true, 0.0, {0.0, 0.0, 0.0}, {}, 0, 0.0, 0.0});
+        for (double a : {1.0, 2.0, 3.0, 4.0, 6.0, 9.0})
+            add_triples(out, true, 0.0, a);
+        return out;
+    }
+    for (double cant : {-15.0, -11.0, -7.0, -3.0, 0.0, 3.0, 7.0, 11.0, 15.0})
+        for (double a : {2.0, 4.0, 6.0, 9.0})
+            add_triples(out, false, cant, a);
     return out;
 }
 
@@ -118,6 +131,8 @@ std::vector<double> simulate_entries(const Geometry& g, const std::vector<Beam>&
     sheet.dihedral_arcmin = 1.0; // trace_cube_corner then returns the traced exit direction
     const sim::CubeCorner pair[2] = {sim::cube_corner(g.cant, g.errors, 0.0),
                                      sim::cube_corner(g.cant, g.errors, kPi)};
+    const sim::FullCubeArray fullPair[2] = {sim::full_cube_array(g.errors, 0.0),
+                                            sim::full_cube_array(g.errors, kPi)};
     const double cosWindow = std::cos(kWindowDeg * kDeg);
     const double omega = 2.0 * kPi * (1.0 - cosWindow);
     std::vector<double> ra(entries, 0.0);
@@ -132,8 +147,10 @@ std::vector<double> simulate_entries(const Geometry& g, const std::vector<Beam>&
             const sim::Crossing in = sim::cross_top_surface(sheet, -wi, true, rng);
             if (in.trapped || in.outside) continue;
             dvec3 up;
-            if (sim::trace_cube_corner(sheet, pair[i & 1], in.dir, rng, &up) != sim::kPrismRetro)
-                continue;
+            const sim::PrismOutcome outcome =
+                g.full ? sim::trace_full_cube(sheet, fullPair[i & 1], in.dir, rng, &up)
+                       : sim::trace_cube_corner(sheet, pair[i & 1], in.dir, rng, &up);
+            if (outcome != sim::kPrismRetro) continue;
             const sim::Crossing out = sim::cross_top_surface(sheet, up, false, rng);
             if (out.trapped || !out.outside) continue;
             for (std::size_t k = 0; k < beam.wo.size(); ++k)
@@ -168,15 +185,19 @@ void fit_scale(Geometry& g, const std::vector<RaEntry>& entries) {
 
 int main(int argc, char** argv) {
     try {
-        if (argc < 2 || argc > 4) {
-            std::fprintf(stderr, "usage: retroprism_geometry_scan TABLE.csv [ROUGHNESS [RAYS]]\n");
+        const bool full = argc > 1 && std::string(argv[1]) == "--full";
+        const int first = full ? 2 : 1; // the first positional argument
+        if (argc < first + 1 || argc > first + 3) {
+            std::fprintf(stderr,
+                         "usage: retroprism_geometry_scan [--full] TABLE.csv [ROUGHNESS [RAYS]]\n");
             return 2;
         }
-        const RaMeasurements table = read_ra_table(argv[1]);
+        const RaMeasurements table = read_ra_table(argv[first]);
         const double roughness =
-            argc > 2 ? parse_number_in(argv[2], "ROUGHNESS", 1e-3, 0.5) : 0.008;
-        const std::uint64_t rays = argc > 3 ? parse_count(argv[3], "RAYS", 1e3, 1e9) : 100000;
-        std::vector<Geometry> geometries = grid();
+            argc > first + 1 ? parse_number_in(argv[first + 1], "ROUGHNESS", 1e-3, 0.5) : 0.008;
+        const std::uint64_t rays =
+            argc > first + 2 ? parse_count(argv[first + 2], "RAYS", 1e3, 1e9) : 100000;
+        std::vector<Geometry> geometries = grid(full);
         const std::vector<Beam> beams = beams_of(table.entries);
         parallel_for(geometries.size(), 0, [&](std::size_t i) {
             Geometry& g = geometries[i];
@@ -188,10 +209,11 @@ int main(int argc, char** argv) {
                   [](const Geometry& a, const Geometry& b) { return a.worst < b.worst; });
         const auto within20 = std::count_if(geometries.begin(), geometries.end(),
                                             [](const Geometry& g) { return g.worst <= 0.2; });
-        std::printf("%zu geometries (matched pairs of ideal prisms, ior %.2f, roughness %g, %llu "
-                    "rays per entrance and rotation) against %s: %ld within 20%% at every entry\n",
-                    geometries.size(), kEta, roughness, static_cast<unsigned long long>(rays),
-                    table.file.c_str(), long(within20));
+        std::printf(
+            "%zu geometries (matched pairs of ideal prisms, %s, ior %.2f, roughness %g, %llu "
+            "rays per entrance and rotation) against %s: %ld within 20%% at every entry\n",
+            geometries.size(), full ? "full-cube arrays" : "truncated cubes", kEta, roughness,
+            static_cast<unsigned long long>(rays), table.file.c_str(), long(within20));
         std::printf("\n%6s %17s %7s %7s  scaled / measured per entry\n", "cant", "errors (arcmin)",
                     "worst", "fewest");
         for (size_t i = 0; i < std::min<size_t>(10, geometries.size()); ++i) {

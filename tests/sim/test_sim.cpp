@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -587,6 +588,108 @@ TEST_CASE("Dihedral errors: six spots on a ring of radius (4 sqrt6 / 3) delta at
                 deltaArcmin, worstRadius, era.value, era.se);
 }
 
+namespace {
+
+// An independent trace of a full-cube array (sim/cube_corner.h's geometry) for the test below:
+// the nearest of the unit-square faces of the cubes whose apexes lie within 4 lattice steps of
+// points along the ray, hit by ray-plane intersection (no cell walk), with perfect faces. Returns
+// whether the ray leaves with an odd number of reflections on each orientation; `exit` its
+// direction and `reflections` their number. x, d in the cube's frame.
+bool trace_full_cube_by_faces(dvec3 x, dvec3 d, dvec3& exit, int& reflections) {
+    int hits[3] = {0, 0, 0};
+    reflections = 0;
+    for (int event = 0; event < 100; ++event) {
+        double tBest = std::numeric_limits<double>::infinity();
+        int axisBest = -1;
+        // Windows of apexes about points 3 apart along the ray, until one holds a hit or the
+        // window's centre is above the surface (x + y + z > 3) on the way up.
+        for (int window = 0; window < 1000 && axisBest < 0; ++window) {
+            const dvec3 c = x + (3.0 * window) * d;
+            if (window > 0 && c.x + c.y + c.z > 3 && d.x + d.y + d.z > 0) break;
+            const int ci = int(std::floor(c.x)), cj = int(std::floor(c.y));
+            for (int i = ci - 4; i <= ci + 4; ++i)
+                for (int j = cj - 4; j <= cj + 4; ++j) {
+                    const int apex[3] = {i, j, -i - j};
+                    for (int a = 0; a < 3; ++a) {
+                        // The face x[a] = apex[a], the other two coordinates in [apex, apex + 1].
+                        if (!(d[a] < 0)) continue; // met from the plastic, x[a] decreasing
+                        const double t = (apex[a] - x[a]) / d[a];
+                        if (!(t > 1e-12) || t >= tBest) continue;
+                        const dvec3 p = x + t * d;
+                        bool inside = true;
+                        for (int b = 0; b < 3; ++b)
+                            if (b != a && (p[b] < apex[b] || p[b] > apex[b] + 1)) inside = false;
+                        if (inside) {
+                            tBest = t;
+                            axisBest = a;
+                        }
+                    }
+                }
+        }
+        if (axisBest < 0) {
+            exit = d;
+            return (hits[0] & hits[1] & hits[2] & 1) != 0;
+        }
+        x += tBest * d;
+        d[axisBest] = -d[axisBest];
+        ++hits[axisBest];
+        ++reflections;
+    }
+    return false;
+}
+
+} // namespace
+
+TEST_CASE("Full cube arrays: the cell walk is the face-by-face trace, ray for ray", "[sim]") {
+    // trace_full_cube against trace_full_cube_by_faces above from the same entry points (the
+    // first two uniforms of the same stream) at 12 directions to 60 degrees inside the sheet and
+    // two orientations: the same outcome and the same exit direction (to 1e-9) for every ray.
+    // Along the axis every ray is retroreflected (the full cube's ERA is 1 there), and off it the
+    // retroreflected fraction falls.
+    sim::Sheet sh;
+    const double none[3] = {0.0, 0.0, 0.0};
+    double eraAxis = 0.0, era40 = 1.0;
+    for (double psi : {0.0, kPi}) {
+        const sim::FullCubeArray array = sim::full_cube_array(none, psi);
+        for (double thetaDeg : {0.0, 10.0, 25.0, 40.0, 50.0, 60.0})
+            for (double phiDeg : {0.0, 75.0}) {
+                const dvec3 d = -dir_deg(thetaDeg, phiDeg);
+                const dvec3 dc = d.x * array.axis[0] + d.y * array.axis[1] + d.z * array.axis[2];
+                const int n = 4000;
+                int retro = 0, mismatches = 0, maxReflections = 0;
+                for (int i = 0; i < n; ++i) {
+                    retroprism::Rng rng(31, std::uint64_t(i)), entry(31, std::uint64_t(i));
+                    dvec3 exit(0.0), exitFaces(0.0);
+                    const bool isRetro =
+                        sim::trace_full_cube(sh, array, d, rng, &exit) == sim::kPrismRetro;
+                    const double u = entry.uniform(), v = entry.uniform();
+                    const dvec3 x =
+                        dvec3(2.0 / 3.0) + u * dvec3(1.0, -1.0, 0.0) + v * dvec3(0.0, 1.0, -1.0);
+                    int reflections = 0;
+                    const bool facesRetro = trace_full_cube_by_faces(x, dc, exitFaces, reflections);
+                    const dvec3 exitSheet(glm::dot(exitFaces, array.axis[0]),
+                                          glm::dot(exitFaces, array.axis[1]),
+                                          glm::dot(exitFaces, array.axis[2]));
+                    if (isRetro != facesRetro || glm::length(exit - exitSheet) > 1e-9) ++mismatches;
+                    if (isRetro && glm::length(exit + d) > 1e-12) ++mismatches;
+                    retro += isRetro ? 1 : 0;
+                    maxReflections = std::max(maxReflections, reflections);
+                }
+                INFO("psi " << psi << " theta " << thetaDeg << " phi " << phiDeg);
+                CHECK(mismatches == 0);
+                const double era = double(retro) / n;
+                if (thetaDeg == 0.0) eraAxis = std::min(eraAxis == 0.0 ? 1.0 : eraAxis, era);
+                if (thetaDeg == 40.0) era40 = std::min(era40, era);
+                if (psi == 0.0)
+                    std::printf("MEASURED: full-cube array, inner theta %2.0f phi %2.0f: "
+                                "retroreflected %.4f, up to %d reflections\n",
+                                thetaDeg, phiDeg, era, maxReflections);
+            }
+    }
+    CHECK(eraAxis == 1.0);
+    CHECK(era40 < 0.9);
+}
+
 TEST_CASE("Dihedral errors: the ring's second moments against the node's, by incidence and cant",
           "[sim]") {
     // Over the prisms' orientations (era_mode averaged), the retroreflected rays' deviation from
@@ -919,16 +1022,22 @@ TEST_CASE("The DG983 preset's R_A at the datasheet's entries against the simulat
 
 TEST_CASE("retroprism_geometry_scan ranks the geometries against a table", "[sim]") {
     // The study program of docs/dihedral.md, on the DG983 table with few rays (its figures come
-    // from its own run): it scans the whole grid, ranks it and names bad arguments.
+    // from its own run): it scans the whole grid of truncated cubes and of full-cube arrays,
+    // ranks it and names bad arguments.
     const std::string scan = std::string("\"") + RP_GEOMETRY_SCAN_PATH + "\" ";
     const std::string table =
         std::string("\"") + RP_SOURCE_DIR + "/examples/sheeting/dg983_white.csv\"";
     const rptest::CommandRun ok = rptest::run_command(scan + table + " 0.008 2000");
     INFO(ok.output);
     REQUIRE(ok.status == 0);
-    CHECK(rptest::contains(ok.output, "324 geometries (matched pairs of ideal prisms"));
+    CHECK(rptest::contains(ok.output, "324 geometries (matched pairs of ideal prisms, truncated"));
     CHECK(rptest::contains(ok.output, "within 20% at every entry"));
     CHECK(rptest::contains(ok.output, "(0.5, 45) (observation, entrance in degrees)"));
+    const rptest::CommandRun full = rptest::run_command(scan + "--full " + table + " 0.008 2000");
+    INFO(full.output);
+    REQUIRE(full.status == 0);
+    CHECK(rptest::contains(full.output, "55 geometries (matched pairs of ideal prisms, full-cube"));
+    CHECK(rptest::contains(full.output, "(0.5, 45) (observation, entrance in degrees)"));
     const rptest::CommandRun badRoughness = rptest::run_command(scan + table + " x");
     CHECK(badRoughness.status != 0);
     CHECK(rptest::contains(badRoughness.output, "ROUGHNESS x: expected a number in"));
