@@ -21,3 +21,6 @@ float rp_erfc(float x) {
 float rp_erf(float x) {
     return 1.0 - rp_erfc(x);
 }
+
+// The exact tier's Smith Lambda by its rational fit (float precision), as in the C++ float node.
+const bool RP_LAMBDA_RATIONAL = true;

@@ -3,6 +3,7 @@
 // whose own tables are placeholders; it uses only the exact, oriented ERA.
 //
 //   retroprism_gen_tables OUT.inc
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -21,6 +22,8 @@ const int kTirNeta = 81;   // and over eta in [1, 3]
 const int kFdrTerms = 16;  // F_dr series: Chebyshev terms over eta in [1, 3]
 const double kFdrEtaMax = 3.0;
 const double kTanMax = 1.41421356237309504880; // A = 0 beyond theta_t = 54.74 deg
+const int kLambdaDegree = 6;   // the float backends' Lambda: P / (a Q), both of this degree
+const double kLambdaCut = 3.7; // and 0 beyond: Lambda(3.7) = 6.3e-9, below float's 1 - G1
 
 void write_table(FILE* f, const char* name, const std::vector<double>& v) {
     std::fprintf(f, "RP_TABLE_BEGIN(%s, %d)\n", name, int(v.size()));
@@ -56,6 +59,124 @@ std::vector<double> fdr_series() {
     return c;
 }
 
+// The least-squares solution of the m x n system `a` x = b (column-major, m >= n, full rank) by
+// Householder reflections; a and b are overwritten.
+std::vector<double> least_squares(std::vector<double>& a, std::vector<double>& b, int m, int n) {
+    for (int k = 0; k < n; ++k) {
+        double* col = &a[size_t(k) * m];
+        double norm = 0.0;
+        for (int i = k; i < m; ++i)
+            norm += col[i] * col[i];
+        norm = std::sqrt(norm);
+        const double alpha = col[k] > 0 ? -norm : norm;
+        std::vector<double> v(col + k, col + m);
+        v[0] -= alpha;
+        double vv = 0.0;
+        for (double x : v)
+            vv += x * x;
+        if (vv == 0.0) continue;
+        auto reflect = [&](double* y) {
+            double dotv = 0.0;
+            for (int i = k; i < m; ++i)
+                dotv += v[size_t(i - k)] * y[i];
+            const double scale = 2.0 * dotv / vv;
+            for (int i = k; i < m; ++i)
+                y[i] -= scale * v[size_t(i - k)];
+        };
+        for (int j = k; j < n; ++j)
+            reflect(&a[size_t(j) * m]);
+        reflect(b.data());
+    }
+    std::vector<double> x(size_t(n), 0.0);
+    for (int k = n - 1; k >= 0; --k) {
+        double r = b[size_t(k)];
+        for (int j = k + 1; j < n; ++j)
+            r -= a[size_t(j) * m + k] * x[size_t(j)];
+        x[size_t(k)] = r / a[size_t(k) * m + k];
+    }
+    return x;
+}
+
+// The float backends' Smith Lambda of Beckmann (the exact tier's; the double node keeps the erfc
+// form, f64::rp_beckmann_lambda_of_a): a Lambda(a) = P(a) / Q(a) on (0, kLambdaCut], P and Q of
+// degree kLambdaDegree, Q(0) = 1, fitted to the weighted minimax error in G1 = 1 / (1 + Lambda),
+// |P / Q - a Lambda| / (a + a Lambda), by Lawson's iteration over linearised least-squares fits
+// (Loeb's: the residual P - a Lambda Q divided by the previous Q) at 2000 Chebyshev points, in
+// x = a / kLambdaCut and converted to powers of a. Returns P's coefficients, then Q's (Q_0 = 1),
+// lowest power first, and in `worst` the largest error in G1 at 100001 points.
+std::vector<double> lambda_rational(double& worst) {
+    const int n = kLambdaDegree, m = 2000, unknowns = 2 * n + 1;
+    const size_t points = 2000;
+    const double pi = 3.14159265358979323846;
+    std::vector<double> x(points), g(points), w(points);
+    for (int i = 0; i < m; ++i) {
+        x[size_t(i)] = 0.5 * (1.0 - std::cos(pi * (i + 0.5) / m));
+        const double a = kLambdaCut * x[size_t(i)];
+        g[size_t(i)] = a * f64::rp_beckmann_lambda_of_a(a);
+        w[size_t(i)] = 1.0 / (a + g[size_t(i)]);
+    }
+    auto horner = [](const double* c, int degree, double t) {
+        double r = c[degree];
+        for (int k = degree - 1; k >= 0; --k)
+            r = r * t + c[k];
+        return r;
+    };
+    std::vector<double> qPrev(points, 1.0), lawson(points, 1.0), best;
+    double bestError = 1e300;
+    for (int it = 0; it < 100; ++it) {
+        std::vector<double> a(points * unknowns), b(points);
+        for (int i = 0; i < m; ++i) {
+            const double row = w[size_t(i)] * std::sqrt(lawson[size_t(i)]) / qPrev[size_t(i)];
+            double power = 1.0;
+            for (int k = 0; k <= n; ++k, power *= x[size_t(i)]) {
+                a[size_t(k) * m + i] = row * power;
+                if (k > 0) a[size_t(n + k) * m + i] = -row * g[size_t(i)] * power;
+            }
+            b[size_t(i)] = row * g[size_t(i)];
+        }
+        std::vector<double> c = least_squares(a, b, m, unknowns);
+        std::vector<double> coef(c.begin(), c.begin() + n + 1);
+        coef.push_back(1.0);
+        coef.insert(coef.end(), c.begin() + n + 1, c.end());
+        double error = 0.0, total = 0.0;
+        std::vector<double> residual(points);
+        for (int i = 0; i < m; ++i) {
+            const double q = horner(&coef[size_t(n + 1)], n, x[size_t(i)]);
+            const double r =
+                w[size_t(i)] * (horner(coef.data(), n, x[size_t(i)]) / q - g[size_t(i)]);
+            residual[size_t(i)] = std::abs(r);
+            error = std::max(error, std::abs(r));
+            qPrev[size_t(i)] = q;
+        }
+        if (error < bestError) {
+            bestError = error;
+            best = coef;
+        }
+        for (int i = 0; i < m; ++i) {
+            lawson[size_t(i)] *= residual[size_t(i)];
+            total += lawson[size_t(i)];
+        }
+        for (int i = 0; i < m; ++i)
+            lawson[size_t(i)] = std::max(lawson[size_t(i)] * m / total, 1e-12);
+    }
+    // Powers of x = a / kLambdaCut to powers of a.
+    double scale = 1.0;
+    for (int k = 0; k <= n; ++k, scale /= kLambdaCut) {
+        best[size_t(k)] *= scale;
+        best[size_t(n + 1 + k)] *= scale;
+    }
+    worst = 0.0;
+    for (int i = 1; i <= 100000; ++i) {
+        const double a = kLambdaCut * i / 100000.0;
+        const double g1 = 1.0 / (1.0 + f64::rp_beckmann_lambda_of_a(a));
+        const double p = std::max(0.0, horner(best.data(), n, a));
+        const double aq = a * horner(&best[size_t(n + 1)], n, a);
+        worst = std::max(worst, std::abs(aq / (aq + p) - g1));
+    }
+    worst = std::max(worst, f64::rp_beckmann_lambda_of_a(kLambdaCut)); // cut off beyond
+    return best;
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -75,6 +196,8 @@ int main(int argc, char** argv) {
             tir[size_t(j) * kTirNt + i] = f64::rp_retro_fraction_averaged_exact(
                 kTanMax * i / (kTirNt - 1), 1.0 + 2.0 * j / (kTirNeta - 1), true);
     const std::vector<double> fdr = fdr_series();
+    double lambdaWorst = 0.0;
+    const std::vector<double> lambda = lambda_rational(lambdaWorst);
     FILE* f = std::fopen(argv[1], "w");
     if (!f) {
         std::fprintf(stderr, "retroprism_gen_tables: cannot write %s\n", argv[1]);
@@ -126,6 +249,19 @@ int main(int argc, char** argv) {
     std::fprintf(f, "const int RP_FDR_TERMS = %d;\n", kFdrTerms);
     std::fprintf(f, "const real RP_FDR_ETA_MAX = real(%.1f);\n", kFdrEtaMax);
     write_table(f, "rp_fdr_ext_series", fdr);
+    std::fprintf(f, "// @rp-endif\n");
+    std::fprintf(
+        f,
+        "// rp_lambda_rational: the exact tier's Smith Lambda of Beckmann in the float backends\n"
+        "// (the double node keeps the erfc form) as a Lambda(a) = P(a) / Q(a) on\n"
+        "// (0, RP_LAMBDA_RATIONAL_CUT], 0 beyond: P's RP_LAMBDA_DEGREE + 1 coefficients, then\n"
+        "// Q's (Q(0) = 1), lowest power of a first; the weighted minimax fit of the error in\n"
+        "// G1 = 1 / (1 + Lambda), largest %.1e over 1e5 points (cut-off included).\n",
+        lambdaWorst);
+    std::fprintf(f, "// @rp-if fidelity_exact\n");
+    std::fprintf(f, "const int RP_LAMBDA_DEGREE = %d;\n", kLambdaDegree);
+    std::fprintf(f, "const real RP_LAMBDA_RATIONAL_CUT = real(%.1f);\n", kLambdaCut);
+    write_table(f, "rp_lambda_rational", lambda);
     std::fprintf(f, "// @rp-endif\n");
     std::fclose(f);
     return 0;

@@ -32,6 +32,9 @@ float rp_erf(float x) {
     return 1.0 - rp_erfc(x);
 }
 
+// The exact tier's Smith Lambda by its rational fit (float precision), as in the C++ float node.
+const bool RP_LAMBDA_RATIONAL = true;
+
 // prism_special.inc: special functions in the common C++/GLSL subset (see prism_core.inc).
 
 // erfinv(x) for x in (-1, 1): Giles, "Approximating the erfinv function", GPU Computing Gems
@@ -1750,6 +1753,19 @@ const vec4 rp_fdr_ext_series_v4[4] = vec4[4](
 float rp_fdr_ext_series_at(int i) {
     return rp_fdr_ext_series_v4[i >> 2][i & 3];
 }
+// rp_lambda_rational: the exact tier's Smith Lambda of Beckmann in the float backends
+// (the double node keeps the erfc form) as a Lambda(a) = P(a) / Q(a) on
+// (0, RP_LAMBDA_RATIONAL_CUT], 0 beyond: P's RP_LAMBDA_DEGREE + 1 coefficients, then
+// Q's (Q(0) = 1), lowest power of a first; the weighted minimax fit of the error in
+// G1 = 1 / (1 + Lambda), largest 1.2e-08 over 1e5 points (cut-off included).
+const int RP_LAMBDA_DEGREE = 6;
+const float RP_LAMBDA_RATIONAL_CUT = float(3.7);
+const vec4 rp_lambda_rational_v4[4] = vec4[4](
+    vec4(0.282094789, -0.501926011, 0.376116781, -0.151794696), vec4(0.0347640992, -0.00427920319, 0.000220938576, 1.0),
+    vec4(-0.00682925342, 0.321235426, 0.0377449873, 0.0371556715), vec4(0.00787857271, 0.0035520067, 0.0, 0.0));
+float rp_lambda_rational_at(int i) {
+    return rp_lambda_rational_v4[i >> 2][i & 3];
+}
 
 // prism_core.inc: the math of the prismatic retroreflector BRDF (Guo, Guo & Pan 2018, as
 // fixed by MODEL.md), written once in the common subset of C++17 (with GLM) and GLSL 4.x.
@@ -1799,7 +1815,8 @@ const float RP_BIG = float(1e30);
 // of the Beckmann terms when a tangent overflows.
 const float RP_MAX_EXP = float(80.0);
 // Smith Lambda is 0 for a = 1 / (alpha tan) beyond these: exactly (in float) for the exact
-// Beckmann Lambda (below 1e-37 at a = 9), by construction for the fast tier's fit.
+// Beckmann Lambda (below 1e-37 at a = 9), by construction for the fast tier's fit. (The float
+// backends' exact tier stops at RP_LAMBDA_RATIONAL_CUT, nodes/generated/prism_tables.inc.)
 const float RP_LAMBDA_EXACT_CUT = float(9.0);
 const float RP_LAMBDA_FAST_CUT = float(1.6);
 // Visible-normal sampling: a view this close to the normal samples the plain Gaussian slope
@@ -1985,10 +2002,31 @@ float rp_beckmann_lambda_of_a(float a) {
     return max(lambda, float(0.0)) * (inside ? float(1.0) : float(0.0));
 }
 
-// The same from tan^2(theta); tan = 0 -> 0.
+// The exact tier's Lambda of a > 0 as a ratio (numerator, denominator): in double the erfc form
+// above over 1; in the float backends (RP_LAMBDA_RATIONAL, set by the prelude) no exp or erfc but
+// P(a) / (a Q(a)), the weighted minimax rational fit of nodes/generated/prism_tables.inc
+// (tools/gen_tables.cpp: G1 within 1.2e-8 of the erfc form's, below float's rounding of G1), and
+// 0 from RP_LAMBDA_RATIONAL_CUT on (Lambda(3.7) = 6.3e-9). P is floored at 0 (it dips to -3e-7
+// just below the cut, where Lambda is 1e-8).
+vec2 rp_beckmann_lambda_exact_ratio(float a) {
+    if (RP_LAMBDA_RATIONAL) {
+        if (!(a < RP_LAMBDA_RATIONAL_CUT)) return vec2(float(0.0), float(1.0));
+        float p = rp_lambda_rational_at(RP_LAMBDA_DEGREE);
+        float q = rp_lambda_rational_at(2 * RP_LAMBDA_DEGREE + 1);
+        for (int k = RP_LAMBDA_DEGREE - 1; k >= 0; --k) {
+            p = p * a + rp_lambda_rational_at(k);
+            q = q * a + rp_lambda_rational_at(RP_LAMBDA_DEGREE + 1 + k);
+        }
+        return vec2(max(p, float(0.0)), a * q);
+    }
+    return vec2(rp_beckmann_lambda_of_a(a), float(1.0));
+}
+
+// The same from tan^2(theta), as a value; tan = 0 -> 0.
 float rp_beckmann_lambda(float tan2Theta, float alpha) {
     if (!(tan2Theta > float(0.0))) return float(0.0);
-    return rp_beckmann_lambda_of_a(float(1.0) / (alpha * sqrt(tan2Theta)));
+    vec2 r = rp_beckmann_lambda_exact_ratio(float(1.0) / (alpha * sqrt(tan2Theta)));
+    return r.x / r.y;
 }
 
 // The fast tier's Smith Lambda of Beckmann: Walter et al. 2007's rational fit (Eq. 27, after
@@ -2015,7 +2053,7 @@ float rp_beckmann_lambda_fast(float tan2Theta, float alpha) {
 vec2 rp_lambda_ratio(in rp_material m, float a) {
     if (!(a > float(0.0))) return vec2(float(1.0), float(0.0));
     if (m.fidelity == RP_FIDELITY_FAST) return rp_beckmann_lambda_fast_ratio(a);
-    if (m.fidelity == RP_FIDELITY_EXACT) return vec2(rp_beckmann_lambda_of_a(a), float(1.0));
+    if (m.fidelity == RP_FIDELITY_EXACT) return rp_beckmann_lambda_exact_ratio(a);
     return vec2(float(0.0), float(1.0));
 }
 
@@ -2024,6 +2062,7 @@ vec2 rp_lambda_ratio(in rp_material m, float a) {
 // every direction within about 80 degrees of the normal for alpha <= 0.1).
 vec2 rp_lambda_ratio_dir(in rp_material m, float c, float sin2) {
     float cut = RP_LAMBDA_EXACT_CUT;
+    if (RP_LAMBDA_RATIONAL) cut = RP_LAMBDA_RATIONAL_CUT;
     if (m.fidelity == RP_FIDELITY_FAST) cut = RP_LAMBDA_FAST_CUT;
     // RP_BIG (Lambda = 0) stands for a beyond the cut: chosen before Lambda's evaluation rather
     // than returned early, so that a vectorised loop evaluates it at RP_BIG in those lanes (where
