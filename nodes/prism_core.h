@@ -48,8 +48,7 @@
     inline real rp_fdr_external(real eta) {                                                        \
         return real(::retroprism::fdr_external(double(eta)));                                      \
     }                                                                                              \
-    /* The exact tier's Lambda by the rational fit in float, by erfc in double (prism_core.inc).   \
-     */                                                                                            \
+    /* The exact tier's Lambda: the rational fit in float, erfc in double (prism_core.inc). */     \
     const bool RP_LAMBDA_RATIONAL = sizeof(real) < sizeof(double);
 
 namespace retroprism {
