@@ -4,13 +4,14 @@
 // unless asked. Without OpenImageIO and the CLI's other libraries, so that it runs under
 // valgrind (callgrind) and starts at once.
 //
-// Usage: retroprism_sim_throughput [rays] [threads] [seed] [progress 0|1]
+// Usage: retroprism_sim_throughput [rays] [threads] [seed] [progress 0|1] [wavefront|scalar]
 // Prints rays/s and the fates, and a checksum of every tally (to compare builds for identical
 // results).
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <string>
 
 #include "microgeometry.h"
 
@@ -21,6 +22,7 @@ int main(int argc, char** argv) {
     const int threads = argc > 2 ? std::atoi(argv[2]) : 0;
     const std::uint64_t seed = argc > 3 ? std::strtoull(argv[3], nullptr, 10) : 1;
     const bool progress = argc > 4 && std::atoi(argv[4]) != 0;
+    const bool scalar = argc > 5 && std::string(argv[5]) == "scalar";
     Params p;
     p.prism_reflection = f64::RP_PRISM_TIR;
     p.roughness = 0.1;
@@ -32,6 +34,7 @@ int main(int argc, char** argv) {
     opt.rays = std::uint64_t(rays);
     opt.seed = seed;
     opt.threads = threads;
+    if (scalar) opt.tracer = sim::RunOptions::kScalar;
     std::uint64_t calls = 0;
     if (progress) opt.progress = [&calls](std::uint64_t, std::uint64_t) { ++calls; };
     const sim::Run run = sim::simulate(sheet, wi, grids, opt);

@@ -2,6 +2,7 @@
 #include "microgeometry.h"
 
 #include "cube_corner.h"
+#include "tracing.h"
 #include "variates.h"
 
 #include "linalg.h"
@@ -18,15 +19,9 @@
 namespace retroprism {
 namespace sim {
 
-namespace {
+using namespace tracing; // the pieces shared with the wavefront
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kInvSqrtPi = 0.56418958354775628695;
-constexpr double kSqrtPi = 1.77245385090551602730;
-constexpr double kSqrt2Over3 = 0.81649658092772603273;
-constexpr double kInvSqrt3 = 0.57735026918962576451;
-constexpr double kInvSqrt2 = 0.70710678118654752440;
-constexpr double kSin120 = 0.86602540378443864676;
+namespace {
 
 // Angle between unit vectors, accurate near 0 and pi.
 double angle_between(const dvec3& a, const dvec3& b) {
@@ -63,14 +58,12 @@ double smith_lambda(const dvec3& w, double alpha) {
     return w.z > 0 ? l : -1.0 - l;
 }
 
-namespace {
-
 // Slope x of a visible normal of the standard Beckmann surface (alpha = 1) seen from polar angle
 // theta in (0, pi) in the xz-plane: the inverse of the visible-slope CDF (Heitz & d'Eon 2014)
 // C(x) = G(x) / G(cot), G(x) = (sin exp(-x^2) / sqrt(pi) + cos erfc(-x)) / 2 for x <= cot,
 // written with erfc so that it holds for views from below the mean plane (cos < 0) too. Solved
 // by Newton's method safeguarded by bisection, to |G(x) - u G(cot)| <= 1e-14 G(cot).
-double visible_slope_x(double cosT, double sinT, double u) {
+double tracing::visible_slope_x(double cosT, double sinT, double u) {
     auto g = [&](double x) {
         return 0.5 * (sinT * std::exp(-x * x) * kInvSqrtPi + cosT * std::erfc(-x));
     };
@@ -100,16 +93,7 @@ double visible_slope_x(double cosT, double sinT, double u) {
     return x;
 }
 
-// smith_lambda with Lambda from the table of sim/variates.h (relative error below 1e-10), and
-// without the square root and division of a = |w.z| / (alpha |w.xy|) where a > kLambdaCut
-// (Lambda = 0: within 48 degrees of the normal for alpha = 0.1).
-double walk_lambda(const dvec3& w, double alpha) {
-    const double s2 = w.x * w.x + w.y * w.y;
-    double l = 0.0;
-    if (w.z * w.z < (kLambdaCut * kLambdaCut) * (alpha * alpha) * s2)
-        l = beckmann_lambda_table(std::abs(w.z) / (alpha * std::sqrt(s2)));
-    return w.z > 0 ? l : -1.0 - l;
-}
+namespace {
 
 // Heights of the microsurface, and the next intersection of a ray of direction w (Heitz et al.
 // 2016, Algorithm 2): with C1 = C(h) the height's CDF and Lambda = Lambda(w), an upward ray leaves
@@ -138,7 +122,7 @@ bool next_depth(const dvec3& w, bool outside, double alpha, Depth& d, Rng& rng) 
     if (w.z > 0 && !(lambda > 0)) return true;
     const double e = exponential_variate(rng);
     if (d.outside != outside) {
-        d.l = -std::log(-std::expm1(-d.l));
+        d.l = depth_flip(d.l);
         d.outside = outside;
     }
     if (w.z > 0) {
@@ -149,14 +133,6 @@ bool next_depth(const dvec3& w, bool outside, double alpha, Depth& d, Rng& rng) 
                                                  // the microsurface's slopes) without division
     }
     return false;
-}
-
-// Refraction of wIn (pointing away from the surface on the incident side, wIn.m = c > 0) at
-// the microfacet m into the medium of relative index e = n_t / n_i (no total internal
-// reflection: the Fresnel choice has already excluded it).
-dvec3 refract_dir(const dvec3& wIn, const dvec3& m, double c, double e) {
-    const double cos2T = std::max(0.0, 1.0 - (1.0 - c * c) / (e * e));
-    return glm::normalize(m * (c / e - std::sqrt(cos2T)) - wIn / e);
 }
 
 } // namespace
@@ -186,28 +162,6 @@ void uniform_rotation(Rng& rng, double& c, double& s) {
     const double inv = 1.0 / r2;
     c = (x - y) * (x + y) * inv;
     s = 2.0 * x * y * inv;
-}
-
-// (cos chi, sin chi) for chi = u pi / 3 in [0, 60) degrees, u in [0, 1): Taylor polynomials of
-// cos and sin of x = chi - 30 degrees (|x| <= pi / 6; the first terms left out are below 5e-17),
-// turned by 30 degrees: within 4e-16 of cos and sin (measured on 1e6 points), no branch and no
-// rejection loop.
-void sixth_turn(double u, double& c, double& s) {
-    // 1 / (2k + 1)! and 1 / (2k)! with their signs.
-    constexpr double kSin[7] = {1.0,          -1.0 / 6,        1.0 / 120,         -1.0 / 5040,
-                                1.0 / 362880, -1.0 / 39916800, 1.0 / 6227020800.0};
-    constexpr double kCos[8] = {
-        1.0,         -0.5,           1.0 / 24,          -1.0 / 720,
-        1.0 / 40320, -1.0 / 3628800, 1.0 / 479001600.0, -1.0 / 87178291200.0};
-    const double x = (u - 0.5) * (kPi / 3.0), x2 = x * x;
-    double sinX = kSin[6], cosX = kCos[7];
-    for (int k = 5; k >= 0; --k)
-        sinX = sinX * x2 + kSin[k];
-    for (int k = 6; k >= 0; --k)
-        cosX = cosX * x2 + kCos[k];
-    sinX *= x;
-    c = kSin120 * cosX - 0.5 * sinX; // cos(30 + x)
-    s = 0.5 * cosX + kSin120 * sinX; // sin(30 + x)
 }
 
 // Slope x of a visible normal of the standard Beckmann surface seen from above the mean plane
@@ -288,7 +242,7 @@ Crossing cross_top_surface(const Sheet& sheet, const dvec3& dir, bool from_outsi
         if (rng.uniform() < fr) {
             w = glm::normalize(2.0 * c * m - wIn);
         } else {
-            w = refract_dir(wIn, m, c, outside ? sheet.eta : 1.0 / sheet.eta);
+            w = refract_dir(wIn, m, c, outside ? 1.0 / sheet.eta : sheet.eta);
             outside = !outside;
         }
     }
@@ -310,20 +264,9 @@ PrismOutcome trace_prism(const Sheet& sheet, const dvec3& d, Rng& rng, dvec3* ex
     double roulette = -1.0; // the uniform of the faces' Russian roulette when drawn in advance
     if (sheet.era_mode == f64::RP_ERA_AVERAGED && sheet.cant_deg == 0.0 &&
         sheet.dihedral_arcmin == 0.0 && sheet.dihedral_spread_arcmin == 0.0) {
-        // psi uniform: v_k.d = r cos(chi + 120 k degrees) with chi = psi - azimuth(d) uniform,
-        // and chi uniform in [0, 60) degrees gives the same outcomes in distribution (a turn of
-        // 120 degrees and the mirror image in the plane through d and the normal each map the
-        // prism onto itself with its faces permuted, under which the uniform entry point and
-        // the trace below are symmetric).
-        double cosChi, sinChi;
         const UniformPair turn = uniform_pair(rng); // the turn, the faces' roulette
-        sixth_turn(turn.u, cosChi, sinChi);
+        averaged_cube_b(d, turn.u, b);
         roulette = turn.v;
-        const double r = kSqrt2Over3 * std::sqrt(d.x * d.x + d.y * d.y), z = kInvSqrt3 * d.z;
-        const double along = -0.5 * r * cosChi, across = kSin120 * r * sinChi;
-        b[0] = r * cosChi + z;
-        b[1] = along - across + z;
-        b[2] = along + across + z;
     } else {
         // The orientation: fixed, one of the matched pair, or uniform (a canted cube, whose
         // only symmetry is its mirror plane, or one with dihedral errors).
@@ -354,62 +297,13 @@ PrismOutcome trace_prism(const Sheet& sheet, const dvec3& d, Rng& rng, dvec3* ex
         for (int k = 0; k < 3; ++k)
             b[k] = kSqrt2Over3 * (vx[k] * d.x + vy[k] * d.y) + kInvSqrt3 * d.z;
     }
-    double a[3];
-    // Uniform entry point on the aperture, in the coordinates a_k = x.e_k (the solid is
-    // a_k >= 0, a1 + a2 + a3 <= 1; the aperture a1 + a2 + a3 = 1).
+    // Uniform entry point on the aperture (two draws), and the faces hit.
     const double u = rng.uniform(), v = rng.uniform();
-    // Folded into the triangle when u + v > 1, without a branch on the random point: u + (1 - 2u)
-    // is 1 - u exactly (u a multiple of 2^-53 in [0, 1)).
-    const double fold = double(u + v > 1.0);
-    a[0] = u + fold * (1.0 - 2.0 * u);
-    a[1] = v + fold * (1.0 - 2.0 * v);
-    a[2] = std::max(0.0, 1.0 - a[0] - a[1]);
-    // The faces are the coordinate planes of the orthonormal frame e_k, and a reflection on face
-    // k only flips b_k: unfolded, the path is the straight line a + t b, its point in the solid
-    // (|a_k + t b_k|), and the ray leaves through the aperture when S(t) = sum |a_k + t b_k|,
-    // convex, 1 at t = 0 and decreasing there (sum b_k = sqrt3 d.z < 0), is back at 1. So face
-    // k is hit (once, at cosine -b_k) iff b_k < 0 and S(t_k) < 1 at t_k = a_k / -b_k: the
-    // faces hit and their cosines follow without tracing them in order.
-    int reflections = 0;
-    bool hit[3];
-    // Multiplied by -b_k > 0, S(t_k) < 1 reads sum_j |a_j (-b_k) + a_k b_j| < -b_k (term k is
-    // 0): no division, and no branch on the random entry point.
-    for (int k = 0; k < 3; ++k) {
-        const int i = k == 2 ? 0 : k + 1, j = k == 0 ? 2 : k - 1;
-        const double sAt =
-            std::abs(a[k] * b[i] - a[i] * b[k]) + std::abs(a[k] * b[j] - a[j] * b[k]);
-        hit[k] = (b[k] < 0) & (sAt < -b[k]);
-        reflections += int(hit[k]);
-    }
-    // Each hit reflects independently with its probability (tir: the internal Fresnel
-    // reflectance at its cosine; metallized: metal_reflectance), so the ray survives its hits
-    // with the product of those probabilities: one Russian roulette on the product.
-    if (sheet.prism_reflection == f64::RP_PRISM_TIR) {
-        // The hits below the critical angle ((1 - c^2) eta^2 < 1; above it total internal
-        // reflection, reflectance 1): found without a branch per face, then one branch (on the
-        // way down, rarely taken) to their Fresnel terms.
-        bool partial[3];
-        bool any = false;
-        for (int k = 0; k < 3; ++k) {
-            partial[k] = hit[k] & ((1.0 - b[k] * b[k]) * sheet.eta * sheet.eta < 1.0);
-            any |= partial[k];
-        }
-        if (any) {
-            double keep = 1.0;
-            for (int k = 0; k < 3; ++k)
-                if (partial[k]) keep *= f64::rp_fresnel_internal(-b[k], sheet.eta);
-            if (keep < 1.0 && (roulette >= 0 ? roulette : rng.uniform()) >= keep)
-                return kPrismTransmitted;
-        }
-    } else if (sheet.prism_reflection == f64::RP_PRISM_METALLIZED && reflections > 0) {
-        double keep = sheet.metal_reflectance;
-        for (int k = 1; k < reflections; ++k)
-            keep *= sheet.metal_reflectance;
-        if ((roulette >= 0 ? roulette : rng.uniform()) >= keep) return kPrismAbsorbed;
-    }
-    if (reflections != 3) return kPrismMiss;
-    if (exit) *exit = -d;
-    return kPrismRetro;
+    const PrismOutcome o =
+        cube_outcome<false>(sheet.prism_reflection, sheet.eta, sheet.metal_reflectance, b, u, v,
+                            [&]() { return roulette >= 0 ? roulette : rng.uniform(); });
+    if (o == kPrismRetro && exit) *exit = -d;
+    return o;
 }
 
 // ---- Paths -------------------------------------------------------------------------------------
@@ -426,73 +320,85 @@ const char* channel_name(int channel) {
     return channel >= 0 && channel < kChannels ? names[channel] : "?";
 }
 
+[[gnu::flatten]] bool tracing::below_surface(const Sheet& sheet, Below where, const dvec3& d,
+                                             bool& visited, int& event, Path& p, Rng& rng,
+                                             dvec3& up) {
+    for (;;) {
+        if (event == kMaxEvents) return false; // trapped
+        ++event;
+        if (where == Below::kPrisms) {
+            const PrismOutcome o = trace_prism(sheet, d, rng, &up);
+            if (o == kPrismRetro) {
+                ++p.retroreflections;
+                return true;
+            }
+            if (o == kPrismAbsorbed) {
+                p.fate = kFateAbsorbedFaces;
+                return false;
+            }
+            if (o == kPrismTransmitted) ++p.face_transmissions;
+            where = Below::kSubstrate;
+            continue;
+        }
+        visited = true;
+        ++p.substrate_hits;
+        if (rng.uniform() >= sheet.kd) {
+            p.fate = kFateAbsorbedSubstrate;
+            return false;
+        }
+        // Lambertian re-emission into the sheet (Malley's method: a uniform point of the unit
+        // disk, by rejection, lifted to the hemisphere).
+        double x, y;
+        const double r2 = disk_point(rng, x, y);
+        up = dvec3(x, y, std::sqrt(1.0 - r2));
+        if (sheet.upward_through_prisms) {
+            // The adjoint of the way down along -up.
+            const PrismOutcome o = trace_prism(sheet, -up, rng);
+            if (o == kPrismRetro) continue; // back to the substrate
+            if (o == kPrismAbsorbed) {
+                p.fate = kFateAbsorbedFaces;
+                return false;
+            }
+            if (o == kPrismTransmitted) ++p.face_transmissions;
+        }
+        return true;
+    }
+}
+
+[[gnu::flatten]] bool tracing::after_crossing(const Sheet& sheet, const Crossing& c, bool upward,
+                                              bool& visited, int& event, Path& p, Rng& rng,
+                                              dvec3& up) {
+    if (c.outside) {
+        p.fate = !upward ? kFateSurface : visited ? kFateDiffuse : kFateRetro;
+        p.wo = c.dir;
+        if (!upward) p.surface_order = c.order;
+        return false;
+    }
+    Below where = Below::kPrisms;
+    if (upward) {
+        ++p.internal_reflections;
+        if (visited && !sheet.upward_through_prisms) where = Below::kSubstrate;
+    }
+    if (!below_surface(sheet, where, c.dir, visited, event, p, rng, up)) return false;
+    // The upward crossing: one event.
+    if (event == kMaxEvents) return false; // trapped
+    ++event;
+    return true;
+}
+
 // Flattened: the walk, the prism trace and the variates inlined into the path's loop (identical
 // results, fewer instructions per ray: no calls and register spills per event).
 [[gnu::flatten]] Path trace_path(const Sheet& sheet, const dvec3& wi, Rng& rng) {
     Path p;
-    const Crossing in = cross_top_surface(sheet, -wi, true, rng);
-    if (in.trapped) return p;
-    if (in.outside) {
-        p.fate = kFateSurface;
-        p.wo = in.dir;
-        p.surface_order = in.order;
-        return p;
+    Crossing c = cross_top_surface(sheet, -wi, true, rng);
+    bool upward = false, visited = false;
+    int event = 0;
+    dvec3 up(0.0);
+    while (!c.trapped && after_crossing(sheet, c, upward, visited, event, p, rng, up)) {
+        c = cross_top_surface(sheet, up, false, rng);
+        upward = true;
     }
-    enum Where { kPrisms, kSubstrate, kUp };
-    Where where = kPrisms;
-    dvec3 d = in.dir; // downward, inside the sheet
-    dvec3 up(0.0);    // upward, inside the sheet
-    bool visited = false;
-    for (int event = 0; event < kMaxEvents; ++event) {
-        if (where == kPrisms) {
-            const PrismOutcome o = trace_prism(sheet, d, rng, &up);
-            if (o == kPrismRetro) {
-                ++p.retroreflections;
-                where = kUp;
-            } else if (o == kPrismAbsorbed) {
-                p.fate = kFateAbsorbedFaces;
-                return p;
-            } else {
-                if (o == kPrismTransmitted) ++p.face_transmissions;
-                where = kSubstrate;
-            }
-        } else if (where == kSubstrate) {
-            visited = true;
-            ++p.substrate_hits;
-            if (rng.uniform() >= sheet.kd) {
-                p.fate = kFateAbsorbedSubstrate;
-                return p;
-            }
-            // Lambertian re-emission into the sheet (Malley's method: a uniform point of the
-            // unit disk, by rejection, lifted to the hemisphere).
-            double x, y;
-            const double r2 = disk_point(rng, x, y);
-            up = dvec3(x, y, std::sqrt(1.0 - r2));
-            if (sheet.upward_through_prisms) {
-                // The adjoint of the way down along -up.
-                const PrismOutcome o = trace_prism(sheet, -up, rng);
-                if (o == kPrismRetro) continue; // back to the substrate
-                if (o == kPrismAbsorbed) {
-                    p.fate = kFateAbsorbedFaces;
-                    return p;
-                }
-                if (o == kPrismTransmitted) ++p.face_transmissions;
-            }
-            where = kUp;
-        } else {
-            const Crossing out = cross_top_surface(sheet, up, false, rng);
-            if (out.trapped) return p;
-            if (out.outside) {
-                p.fate = visited ? kFateDiffuse : kFateRetro;
-                p.wo = out.dir;
-                return p;
-            }
-            ++p.internal_reflections;
-            d = out.dir;
-            where = (visited && !sheet.upward_through_prisms) ? kSubstrate : kPrisms;
-        }
-    }
-    return p; // trapped
+    return p; // its fate, or trapped
 }
 
 // ---- Grids
@@ -727,12 +633,10 @@ std::vector<Grid> standard_grids(const Sheet& sheet, const dvec3& wi, const Grid
 // ---- Simulation
 // ----------------------------------------------------------------------------------
 
-namespace {
-
 // A direction in the cone of half-angle r about c (frame e1, e2), with density proportional to
 // its cos(theta) (z component): uniform in solid angle, then accepted with probability
 // z / (largest z in the cone).
-dvec3 sample_cone(const dvec3& c, const dvec3& e1, const dvec3& e2, double r, Rng& rng) {
+dvec3 tracing::sample_cone(const dvec3& c, const dvec3& e1, const dvec3& e2, double r, Rng& rng) {
     const double zMax = std::min(1.0, std::cos(std::max(0.0, std::acos(std::min(c.z, 1.0)) - r)));
     for (;;) {
         const double cosT = 1.0 - rng.uniform() * (1.0 - std::cos(r));
@@ -743,9 +647,8 @@ dvec3 sample_cone(const dvec3& c, const dvec3& e1, const dvec3& e2, double r, Rn
     }
 }
 
-// One path in a tally: its fate and counters and, for an exit, its cell in each grid (flattened:
-// the grids' lookups inlined).
-[[gnu::flatten]] void tally_path(const Path& p, const std::vector<Grid>& grids, Tally& t) {
+// Flattened: the grids' lookups inlined.
+[[gnu::flatten]] void tracing::tally_path(const Path& p, const std::vector<Grid>& grids, Tally& t) {
     ++t.fates[size_t(p.fate)];
     t.substrate_hits += std::uint64_t(p.substrate_hits);
     t.face_transmissions += std::uint64_t(p.face_transmissions);
@@ -771,8 +674,6 @@ dvec3 sample_cone(const dvec3& c, const dvec3& e1, const dvec3& e2, double r, Rn
         if (single) t.counts[g][size_t(cell) * kChannels + kSurfaceSingle] += 1;
     }
 }
-
-} // namespace
 
 void Tally::add(const Tally& o) {
     rays += o.rays;
@@ -807,6 +708,9 @@ Run simulate(const Sheet& sheet, const dvec3& wiIn, const std::vector<Grid>& gri
     }
     dvec3 e1, e2;
     lobe_frame(wi, e1, e2);
+    const bool wavefront =
+        opt.tracer == RunOptions::kWavefront ||
+        (opt.tracer == RunOptions::kAuto && simd_level_supported() == SimdLevel::Avx512);
     std::atomic<std::uint64_t> nextChunk{0}, done{0};
     std::mutex doneMutex;
     std::condition_variable doneCv;
@@ -815,14 +719,19 @@ Run simulate(const Sheet& sheet, const dvec3& wiIn, const std::vector<Grid>& gri
         // between threads), handed over at the end.
         Tally t = std::move(local[size_t(id)]);
         for (std::uint64_t ch = nextChunk++; ch < chunks; ch = nextChunk++) {
-            Rng rng(opt.seed, ch);
             const std::uint64_t n = std::min(kChunkRays, opt.rays - ch * kChunkRays);
-            for (std::uint64_t r = 0; r < n; ++r) {
-                dvec3 w = wi;
-                if (opt.incidence_cone > 0) w = sample_cone(wi, e1, e2, opt.incidence_cone, rng);
-                tally_path(trace_path(sheet, w, rng), grids, t);
+            if (wavefront) {
+                trace_chunk(sheet, wi, e1, e2, opt.incidence_cone, grids, opt.seed, ch, n, t);
+            } else {
+                Rng rng(opt.seed, ch);
+                for (std::uint64_t r = 0; r < n; ++r) {
+                    dvec3 w = wi;
+                    if (opt.incidence_cone > 0)
+                        w = sample_cone(wi, e1, e2, opt.incidence_cone, rng);
+                    tally_path(trace_path(sheet, w, rng), grids, t);
+                }
+                t.rays += n;
             }
-            t.rays += n;
             if (done.fetch_add(n) + n == opt.rays) {
                 // The last rays: wake the progress loop at once (not at its next tick).
                 std::lock_guard<std::mutex> lock(doneMutex);

@@ -61,9 +61,11 @@
 // binomial standard error sqrt(count (1 - count / N)) / (N Omega_p); analytic values are
 // integrated over the same cells (integrate_cells), so both sides are cell averages.
 //
-// Determinism: rays are processed in fixed chunks of kChunkRays, chunk k drawing from its own
-// stream (seed, k), and all tallies are integers: the result depends on the seed only, not on
-// the number of threads.
+// Determinism: rays are processed in fixed chunks of kChunkRays, each chunk's random streams
+// derived from (seed, chunk) alone (one for trace_path; the wavefront's one per lane and per
+// position of its list below the surface, sim/wavefront.cpp), and all tallies are integers: the
+// result depends on the seed and the tracer only, not on the number of threads, nor on the
+// instruction set that runs the wavefront.
 #pragma once
 
 #include <array>
@@ -108,8 +110,8 @@ constexpr std::uint64_t kChunkRays = 4096;
 
 // ---- Random numbers ------------------------------------------------------------------------
 
-// util/rng.h: xoshiro256** seeded through splitmix64 from (seed, stream), one independent
-// stream per chunk.
+// util/rng.h: xoshiro256** seeded through splitmix64 from (seed, stream), independent streams
+// per chunk.
 using Rng = retroprism::Rng;
 
 // ---- Building blocks (exposed for the tests) ----------------------------------------------
@@ -137,11 +139,11 @@ Crossing cross_top_surface(const Sheet& sheet, const dvec3& dir, bool from_outsi
 // A cube corner met by a downward ray of direction d (unit, d.z < 0) at a uniform point of its
 // aperture. A retroreflected ray leaves along -d, or, with dihedral errors, along the direction
 // its three reflections give; `exit` (when not null) receives that direction.
-enum PrismOutcome {
-    kPrismRetro,       // three reflections: leaves along -d
-    kPrismMiss,        // leaves the aperture after fewer reflections
-    kPrismTransmitted, // transmitted through a face (tir)
-    kPrismAbsorbed     // absorbed by a face (metallized)
+enum PrismOutcome : std::int64_t { // 64 bits wide: vectorised with doubles (sim/wavefront.cpp)
+    kPrismRetro,                   // three reflections: leaves along -d
+    kPrismMiss,                    // leaves the aperture after fewer reflections
+    kPrismTransmitted,             // transmitted through a face (tir)
+    kPrismAbsorbed                 // absorbed by a face (metallized)
 };
 PrismOutcome trace_prism(const Sheet& sheet, const dvec3& d, Rng& rng, dvec3* exit = nullptr);
 
@@ -267,6 +269,13 @@ struct RunOptions {
     double incidence_cone = 0;
     // Called on the calling thread about every 0.1 s: rays done, rays in all.
     Progress progress;
+    // The tracer: the wavefront of sim/wavefront.cpp (many rays in SIMD lanes), or trace_path one
+    // ray at a time (the reference the wavefront is tested against). The two draw their random
+    // numbers differently: the same statistics, not the same bits. kAuto: the wavefront where the
+    // CPU has AVX-512, else trace_path (faster than the wavefront's rounds in AVX2's four lanes,
+    // which lack AVX-512's conversions between 64-bit integers and doubles).
+    enum Tracer { kAuto, kWavefront, kScalar };
+    Tracer tracer = kAuto;
 };
 
 struct Run {

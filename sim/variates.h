@@ -48,14 +48,32 @@ struct Ziggurat {
 extern const Ziggurat kZigguratNormal;      // f(x) = exp(-x^2 / 2)
 extern const Ziggurat kZigguratExponential; // f(x) = exp(-x)
 
-// A standard normal variate N(0, 1).
-inline double normal_variate(Rng& rng) {
+// The ziggurats' first try with one 64-bit draw `bits`, for code that draws in bulk
+// (sim/wavefront.cpp): true, with the variate in x, when the draw falls inside its layer's
+// rectangle under the curve (98.8% of normal, 98.9% of exponential draws); otherwise the variate
+// is normal_variate_from / exponential_variate_from of the same bits, which go on with the wedge,
+// the tail and fresh draws from the generator.
+inline bool normal_first_try(std::uint64_t bits, double& x) {
     const Ziggurat& z = kZigguratNormal;
-    for (;;) {
-        const std::uint64_t bits = rng.next();
+    const std::int64_t i = std::int64_t(bits & 255u);    // 64 bits wide: a gather's index
+    x = (double(bits >> 11) * 0x1.0p-52 - 1.0) * z.x[i]; // [-x_i, x_i)
+    return std::abs(x) < z.x[i + 1];
+}
+inline bool exponential_first_try(std::uint64_t bits, double& x) {
+    const Ziggurat& z = kZigguratExponential;
+    const std::int64_t i = std::int64_t(bits & 255u);
+    x = double(bits >> 11) * 0x1.0p-53 * z.x[i]; // [0, x_i)
+    return x < z.x[i + 1];
+}
+
+// A standard normal variate N(0, 1) whose first draw is `bits`.
+template <class R>
+double normal_variate_from(std::uint64_t bits, R& rng) {
+    const Ziggurat& z = kZigguratNormal;
+    for (;; bits = rng.next()) {
+        double x;
+        if (normal_first_try(bits, x)) return x; // inside the layer's rectangle under the curve
         const unsigned i = unsigned(bits & 255u);
-        const double x = (double(bits >> 11) * 0x1.0p-52 - 1.0) * z.x[i]; // [-x_i, x_i)
-        if (std::abs(x) < z.x[i + 1]) return x; // inside the layer's rectangle under the curve
         if (i == 0) {
             // The tail beyond R (Marsaglia 1964): a = -log(U1) / R, b = -log(U2), accepted when
             // 2 b >= a^2; then R + a has the tail's density.
@@ -70,22 +88,28 @@ inline double normal_variate(Rng& rng) {
         if (z.f[i] + rng.uniform() * (z.f[i + 1] - z.f[i]) < std::exp(-0.5 * x * x)) return x;
     }
 }
+inline double normal_variate(Rng& rng) {
+    return normal_variate_from(rng.next(), rng);
+}
 
-// A standard exponential variate Exp(1) (density exp(-x), x >= 0).
-inline double exponential_variate(Rng& rng) {
+// A standard exponential variate Exp(1) (density exp(-x), x >= 0) whose first draw is `bits`.
+template <class R>
+double exponential_variate_from(std::uint64_t bits, R& rng) {
     const Ziggurat& z = kZigguratExponential;
     double base = 0; // the tail is R plus an exponential variate (memorylessness)
-    for (;;) {
-        const std::uint64_t bits = rng.next();
+    for (;; bits = rng.next()) {
+        double x;
+        if (exponential_first_try(bits, x)) return base + x;
         const unsigned i = unsigned(bits & 255u);
-        const double x = double(bits >> 11) * 0x1.0p-53 * z.x[i]; // [0, x_i)
-        if (x < z.x[i + 1]) return base + x;
         if (i == 0) {
             base += z.r;
             continue;
         }
         if (z.f[i] + rng.uniform() * (z.f[i + 1] - z.f[i]) < std::exp(-x)) return base + x;
     }
+}
+inline double exponential_variate(Rng& rng) {
+    return exponential_variate_from(rng.next(), rng);
 }
 
 // ---- Smith Lambda -------------------------------------------------------------------------------
@@ -108,17 +132,25 @@ struct LambdaTable {
 };
 extern const LambdaTable kLambdaTable;
 
+// g(a) = 2 a Lambda(a) for 0 <= a <= kLambdaCut (any other a reads a valid row: the table is read
+// whatever a is, so that vectorised code reads it unconditionally, sim/wavefront.cpp).
+inline double beckmann_lambda_g(double a) {
+    const double s = (a <= kLambdaCut ? a : 0.0) * kLambdaScale;
+    const std::int64_t i = s < double(kLambdaPieces) ? std::int64_t(s) : kLambdaPieces - 1;
+    const double t = 2.0 * (s - double(i)) - 1.0;
+    // Indexed from the table's start, 64 bits wide (a gather's form in vectorised code).
+    const double* c = &kLambdaTable.c[0][0];
+    const std::int64_t row = i * (kLambdaDegree + 1);
+    double g = c[row + kLambdaDegree];
+#pragma GCC unroll 32
+    for (int k = kLambdaDegree - 1; k >= 0; --k)
+        g = g * t + c[row + k];
+    return g;
+}
+
 // Lambda(a), a = 1 / (alpha tan(theta)) > 0; 0 for a > kLambdaCut (as the core).
 inline double beckmann_lambda_table(double a) {
-    if (!(a <= kLambdaCut)) return 0.0;
-    const double s = a * kLambdaScale;
-    const int i = s < double(kLambdaPieces) ? int(s) : kLambdaPieces - 1;
-    const double t = 2.0 * (s - i) - 1.0;
-    const double* c = kLambdaTable.c[i];
-    double g = c[kLambdaDegree];
-    for (int k = kLambdaDegree - 1; k >= 0; --k)
-        g = g * t + c[k];
-    return g / (a + a);
+    return a <= kLambdaCut ? beckmann_lambda_g(a) / (a + a) : 0.0;
 }
 
 } // namespace sim

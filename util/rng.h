@@ -24,15 +24,30 @@ class Rng {
         for (std::uint64_t& s : s_)
             s = splitmix64(x);
     }
-    std::uint64_t next() {
-        const std::uint64_t result = rotl(s_[1] * 5, 7) * 9;
-        const std::uint64_t t = s_[1] << 17;
-        s_[2] ^= s_[0];
-        s_[3] ^= s_[1];
-        s_[1] ^= s_[2];
-        s_[0] ^= s_[3];
-        s_[2] ^= t;
-        s_[3] = rotl(s_[3], 45);
+    // The generator whose state is s (four words, not all zero), and its state: for code that
+    // keeps many generators' states in arrays of its own (sim/wavefront.cpp).
+    static Rng from_state(const std::uint64_t s[4]) {
+        Rng r(0);
+        for (int i = 0; i < 4; ++i)
+            r.s_[i] = s[i];
+        return r;
+    }
+    void state(std::uint64_t s[4]) const {
+        for (int i = 0; i < 4; ++i)
+            s[i] = s_[i];
+    }
+    std::uint64_t next() { return xoshiro256ss(s_[0], s_[1], s_[2], s_[3]); }
+    // One step of xoshiro256** on a state held in four words anywhere.
+    static std::uint64_t xoshiro256ss(std::uint64_t& s0, std::uint64_t& s1, std::uint64_t& s2,
+                                      std::uint64_t& s3) {
+        const std::uint64_t result = rotl(s1 * 5, 7) * 9;
+        const std::uint64_t t = s1 << 17;
+        s2 ^= s0;
+        s3 ^= s1;
+        s1 ^= s2;
+        s0 ^= s3;
+        s2 ^= t;
+        s3 = rotl(s3, 45);
         return result;
     }
     double uniform() { return double(next() >> 11) * 0x1.0p-53; }              // [0, 1)

@@ -1,0 +1,642 @@
+// wavefront.cpp: the simulator's tracer for whole chunks of rays (tracing.h trace_chunk), its
+// events those of trace_path (microgeometry.cpp) in two kinds of rounds, each one loop that GCC
+// vectorises (`omp simd`, the branches of the path turned into selects), compiled for each
+// instruction set and chosen at run time:
+//  - the surface round advances each of kLanes rays in flight (a lane of arrays each, with its
+//    own random stream) by one step of the top surface's random walk and the scattering it leads
+//    to;
+//  - the rays whose crossing took them into the sheet then go below the surface: a compact list
+//    of them, each position with its own stream, advances by one event per round (a cube corner
+//    on the way down or up, the substrate and its re-emission) until each has gone up to the top
+//    surface again or ended; the list closes up after every round.
+// A rejection sampler that rejects leaves its ray where it was, to try again in the next round
+// with fresh draws. The rare cases the loops leave out (a ziggurat draw outside its layer's
+// rectangle, a facet seen from below the mean plane, a canted or imperfect cube) mark the ray,
+// which the same step function, compiled for one ray, then completes with the same draws and the
+// stream's generator. A finished path is tallied and its lane takes the chunk's next ray; at the
+// chunk's end the lanes still in use close up. The result depends on the seed and the chunk
+// alone, and the rounds use IEEE arithmetic without contraction or library calls: the same bits
+// whatever instruction set runs them.
+#include "tracing.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "batch.h"
+#include "cube_corner.h"
+
+namespace retroprism {
+namespace sim {
+namespace tracing {
+
+namespace {
+
+constexpr int kLanes = 256; // rays in flight
+constexpr int kDraws = 5;   // 64-bit draws per lane and round
+
+enum Phase : std::int64_t {
+    kIdle = 0, // no ray
+    kWalk,     // next intersection with the top surface's microsurface, then its scattering
+    kScatter,  // the scattering alone (its sampler rejected in the last round)
+    kLeft,     // the crossing is over: the path leaves the sheet, or goes on below its surface
+    kBelow,    // below the surface (in the below-surface list)
+    kDone      // the path has its fate
+};
+
+// The lanes: the walk's state (direction, side, depth, scattering order, the crossing's
+// direction), the phase, the path's counters (Path's, kept between crossings), the lane's
+// generator, and the last round's draws (for the completion of a marked lane).
+struct alignas(64) Lanes {
+    double wx[kLanes], wy[kLanes], wz[kLanes]; // direction of travel
+    double depth[kLanes];                      // depth l on side depthOutside
+    std::int64_t outside[kLanes];              // the side the walk is on
+    std::int64_t depthOutside[kLanes];
+    std::int64_t order[kLanes];  // scattering events of this crossing
+    std::int64_t upward[kLanes]; // the crossing is from inside the sheet
+    std::int64_t phase[kLanes];
+    std::int64_t marked[kLanes]; // for completion by one lane's step
+    Path path[kLanes];           // counters (and fate and exit when done)
+    bool visited[kLanes];        // the path reached the substrate
+    int events[kLanes];
+    std::uint64_t s0[kLanes], s1[kLanes], s2[kLanes], s3[kLanes];
+    std::uint64_t draw[kDraws][kLanes];
+};
+
+// The bits of one draw as variates: [0, 1) with 53 bits (as Rng::uniform), a pair of 32-bit ones
+// (as uniform_pair), (0, 1) (as Rng::uniform_open).
+inline double uniform53(std::uint64_t bits) {
+    return double(bits >> 11) * 0x1.0p-53;
+}
+inline double uniform_high(std::uint64_t bits) {
+    return double(bits >> 32) * 0x1.0p-32;
+}
+inline double uniform_low(std::uint64_t bits) {
+    return double(bits & 0xffffffffu) * 0x1.0p-32;
+}
+inline double uniform_open53(std::uint64_t bits) {
+    return (double(bits >> 11) + 0.5) * 0x1.0p-53;
+}
+
+// c ? a : b by components (a select of whole vectors would pick an address to load from).
+inline dvec3 pick(bool c, const dvec3& a, const dvec3& b) {
+    return dvec3(c ? a.x : b.x, c ? a.y : b.y, c ? a.z : b.z);
+}
+
+// Stands for the generator where the vector loop has none (its continuations never run).
+struct NoRng {
+    std::uint64_t next() { return 0; }
+    double uniform() { return 0; }
+    double uniform_open() { return 0.5; }
+};
+
+// One event of lane i with the round's draws D. kVector: the vector loop, which marks the lane
+// and leaves its state as it was where the event needs more than D (see the file's comment);
+// otherwise the completion of a marked lane, which draws what it needs more from rng.
+template <bool kVector, class R>
+inline __attribute__((always_inline)) void
+step(Lanes& L, int i, const Sheet& sheet, std::uint64_t D0, std::uint64_t D1, std::uint64_t D2,
+     std::uint64_t D3, std::uint64_t D4, R& rng) {
+    const std::int64_t phase = L.phase[i];
+    const dvec3 w(L.wx[i], L.wy[i], L.wz[i]);
+    double depth = L.depth[i];
+    std::int64_t outside = L.outside[i], depthOutside = L.depthOutside[i];
+    std::int64_t order = L.order[i];
+    bool mark = false;
+    // The sheet's inputs read once, at the top (a read under a condition is a masked load, which
+    // GCC does not vectorise for a scalar).
+    const double alpha = sheet.alpha, eta = sheet.eta, invEta = 1.0 / eta;
+
+    // ---- The walk's next intersection (microgeometry.cpp next_depth, the same steps)
+    const bool walking = phase == kWalk;
+    const dvec3 ws = pick(outside, w, -w); // in the frame of its side
+    const bool grazing = std::abs(ws.z) < 1e-12;
+    const double s2 = w.x * w.x + w.y * w.y, rxy = std::sqrt(s2); // the walk's and the view's
+    const double lambda = walk_lambda(ws.z, s2, rxy, alpha);
+    const bool rising = ws.z > 0;
+    const bool alwaysLeaves = !grazing & rising & !(lambda > 0);
+    const bool random = walking & !grazing & !alwaysLeaves;
+    double ez;
+    const bool eFirst = exponential_first_try(D0, ez);
+    if constexpr (kVector) {
+        mark |= random & !eFirst;
+    } else if (random & !eFirst) {
+        ez = exponential_variate_from(D0, rng);
+    }
+    const double flipped = depth_flip(depth);
+    const double lc = depthOutside != outside ? flipped : depth;
+    const bool leaves = alwaysLeaves | (random & rising & (ez >= lambda * lc));
+    const double step = ez / lambda; // ez / -lambda = -step exactly
+    const double deeper = lc + (lambda == -1.0 ? ez : -step);
+    const double higher = std::max(0.0, lc - step);
+    depth = random ? (rising ? higher : deeper) : depth;
+    depthOutside = random ? outside : depthOutside;
+    const bool hits = walking & !leaves;
+    const bool trapped = hits & (order == kMaxWalkOrder);
+    const bool left = walking & leaves;
+
+    // ---- A visible microfacet and the Fresnel choice (microgeometry.cpp sample_visible_normal
+    // and cross_top_surface)
+    const bool scattering = (hits & !trapped) | (phase == kScatter);
+    const dvec3 wIn = -w;
+    const dvec3 v = pick(outside, wIn, -wIn); // the view, in the frame of its side
+    const double cosS = v.z, sinS = alpha * rxy;
+    double g1, g3, e3;
+    const bool g1First = normal_first_try(D1, g1);
+    const bool g3First = normal_first_try(D3, g3);
+    const bool e3First = exponential_first_try(D3, e3);
+    const bool alongNormal = sinS * sinS < 1e-24 * (cosS * cosS + sinS * sinS);
+    const bool above = cosS > 0;
+    const double wGauss = cosS * kSqrtPi;
+    // The tail component when u >= wGauss / (wGauss + sinS / 2), without the division.
+    const bool tail = !alongNormal & above & (uniform_high(D2) * (wGauss + 0.5 * sinS) >= wGauss);
+    const bool needG3 = scattering & (alongNormal | (above & !tail));
+    const bool needE3 = scattering & tail;
+    const bool below = scattering & !alongNormal & !above;
+    if constexpr (kVector) {
+        mark |= (scattering & !g1First) | (needG3 & !g3First) | (needE3 & !e3First) | below;
+    } else {
+        if (scattering & !g1First) g1 = normal_variate_from(D1, rng);
+        if (needG3 & !g3First) g3 = normal_variate_from(D3, rng);
+        if (needE3 & !e3First) e3 = exponential_variate_from(D3, rng);
+    }
+    const double sy = kInvSqrt2 * g1, x = kInvSqrt2 * g3;
+    const double rootE3 = std::sqrt(e3);
+    double sx = tail ? -rootE3 : x;
+    if (!kVector & below) { // constant-folded in the vector loop
+        const double n = 1.0 / std::sqrt(cosS * cosS + sinS * sinS);
+        sx = visible_slope_x(cosS * n, sinS * n, uniform_open53(D3));
+    }
+    // Accepted when the tail component was drawn, x <= 0, or by the ratio p / q.
+    const bool accepted =
+        alongNormal | !above | tail | (x <= 0) | (uniform_low(D2) * cosS < cosS - x * sinS);
+    const double inv = 1.0 / rxy;
+    const double cosPhi = alongNormal ? 1.0 : v.x * inv, sinPhi = alongNormal ? 0.0 : v.y * inv;
+    const double tx = alpha * (cosPhi * sx - sinPhi * sy);
+    const double ty = alpha * (sinPhi * sx + cosPhi * sy);
+    dvec3 m = glm::normalize(dvec3(-tx, -ty, 1.0));
+    m = pick(outside, m, -m);
+    const double c = std::max(glm::dot(wIn, m), 0.0);
+    // The Fresnel reflectance at the facet for the relative index e of the side's crossing (the
+    // core's, total internal reflection included); the reflected or refracted direction
+    // a m + b wIn, unit up to rounding (m and wIn are unit), left unnormalised.
+    const double e = outside ? eta : invEta, invE = outside ? invEta : eta;
+    const double fr = f64::rp_fresnel_dielectric(c, e);
+    const bool reflects = uniform53(D4) < fr;
+    const double cosT = std::sqrt(std::max(0.0, 1.0 - (1.0 - c * c) * (invE * invE)));
+    const double ma = reflects ? 2.0 * c : c * invE - cosT, mb = reflects ? -1.0 : -invE;
+    const dvec3 wScattered = ma * m + mb * wIn;
+    const bool scattered = scattering & accepted;
+
+    // ---- The next phase
+    dvec3 wNext = w;
+    std::int64_t nextPhase = phase;
+    if (left) nextPhase = kLeft;
+    if (trapped) nextPhase = kDone; // more than kMaxWalkOrder scattering events
+    if (scattering) {
+        wNext = pick(scattered, wScattered, w);
+        outside = (scattered & !reflects) ? !outside : outside;
+        order += scattered;
+        nextPhase = scattered ? kWalk : kScatter;
+    }
+
+    // ---- Stores: a marked lane keeps its state for its completion (selects, not a branch, so
+    // that the loop stores whole vectors).
+    L.marked[i] = mark;
+    L.wx[i] = mark ? w.x : wNext.x;
+    L.wy[i] = mark ? w.y : wNext.y;
+    L.wz[i] = mark ? w.z : wNext.z;
+    L.depth[i] = mark ? L.depth[i] : depth;
+    L.outside[i] = mark ? L.outside[i] : outside;
+    L.depthOutside[i] = mark ? L.depthOutside[i] : depthOutside;
+    L.order[i] = mark ? L.order[i] : order;
+    L.phase[i] = mark ? phase : nextPhase;
+}
+
+// ---- Below the surface: cube corners, the substrate and its re-emission, one event per element
+// and round (tracing.h below_surface, the same events and counters), over a compact list of the
+// paths whose light is inside the sheet, each position of the list with its own generator.
+enum Where : std::int64_t {
+    kDown = 0,    // a cube corner on the way down, along d
+    kAtSubstrate, // absorbed, or re-emitted
+    kEmitting,    // the re-emission alone (its sampler rejected in the last round)
+    kUpThrough,   // the adjoint cube corner on the way up, along d
+    kGoesUp,      // up to the top surface along d
+    kEnded        // absorbed or trapped (fate)
+};
+
+struct alignas(64) BelowList {
+    double dx[kLanes], dy[kLanes], dz[kLanes];
+    std::int64_t where[kLanes];
+    std::int64_t lane[kLanes];
+    std::int64_t visited[kLanes], events[kLanes], fate[kLanes];
+    std::int64_t retro[kLanes], transmitted[kLanes], substrate[kLanes];
+    std::int64_t marked[kLanes];
+    std::uint64_t s0[kLanes], s1[kLanes], s2[kLanes], s3[kLanes];
+    std::uint64_t draw[3][kLanes];
+};
+
+template <bool kVector, class R>
+inline __attribute__((always_inline)) void below_step(BelowList& B, int j, const Sheet& sheet,
+                                                      bool averagedCube, std::uint64_t D0,
+                                                      std::uint64_t D1, std::uint64_t D2, R& rng) {
+    const std::int64_t where = B.where[j];
+    const dvec3 d(B.dx[j], B.dy[j], B.dz[j]);
+    std::int64_t visited = B.visited[j], events = B.events[j], fate = B.fate[j];
+    std::int64_t retro = B.retro[j], transmitted = B.transmitted[j], substrate = B.substrate[j];
+    bool mark = false;
+    const double eta = sheet.eta, kd = sheet.kd, metal = sheet.metal_reflectance;
+    const int reflection = sheet.prism_reflection;
+    const bool upThrough = sheet.upward_through_prisms;
+
+    // A new event (the prisms on the way down, the substrate) is counted, or the path trapped.
+    const bool counted = (where == kDown) | (where == kAtSubstrate);
+    const bool trapped = counted & (events == kMaxEvents);
+    events += counted & !trapped;
+
+    // ---- A cube corner: down along d, or the adjoint up (along -d). The paper's cube at a random
+    // orientation in the loop (computed whatever the sheet, so that nothing in the loop is read
+    // under a condition); any other cube in the completion.
+    const bool down = (where == kDown) & !trapped, upTrace = where == kUpThrough;
+    const dvec3 dd = pick(upTrace, -d, d);
+    double b[3];
+    averaged_cube_b(dd, uniform_high(D0), b);
+    const double roulette = uniform_low(D0);
+    PrismOutcome outcome = cube_outcome<true>(reflection, eta, metal, b, uniform53(D1),
+                                              uniform53(D2), [roulette]() { return roulette; });
+    dvec3 exit = -dd;
+    if constexpr (kVector) {
+        mark |= (!averagedCube) & (down | upTrace);
+    } else if ((!averagedCube) & (down | upTrace)) {
+        outcome = trace_prism(sheet, dd, rng, down ? &exit : nullptr);
+    }
+
+    // ---- The substrate: absorbed, or re-emitted by Malley's method (a uniform point of the unit
+    // disk by rejection, lifted to the hemisphere)
+    const bool atSubstrate = (where == kAtSubstrate) & !trapped;
+    const bool absorbed = atSubstrate & (uniform53(D0) >= kd);
+    const bool emitting = (atSubstrate & !absorbed) | (where == kEmitting);
+    const double px = 2.0 * uniform_high(D1) - 1.0, py = 2.0 * uniform_low(D1) - 1.0;
+    const double r2 = px * px + py * py;
+    const bool emitted = emitting & (r2 < 1.0);
+    const dvec3 up(px, py, std::sqrt(std::max(0.0, 1.0 - r2)));
+
+    // ---- What next
+    std::int64_t next = where;
+    dvec3 dNext = d;
+    if (trapped) next = kEnded; // fate: trapped
+    if (down) {
+        if (outcome == kPrismRetro) {
+            ++retro;
+            dNext = exit;
+            next = kGoesUp;
+        } else if (outcome == kPrismAbsorbed) {
+            fate = kFateAbsorbedFaces;
+            next = kEnded;
+        } else {
+            transmitted += outcome == kPrismTransmitted;
+            next = kAtSubstrate;
+        }
+    }
+    if (atSubstrate) {
+        visited = 1;
+        ++substrate;
+    }
+    if (absorbed) {
+        fate = kFateAbsorbedSubstrate;
+        next = kEnded;
+    }
+    if (emitting) {
+        next = kEmitting;
+        if (emitted) {
+            dNext = up;
+            next = upThrough ? kUpThrough : kGoesUp;
+        }
+    }
+    if (upTrace) {
+        if (outcome == kPrismRetro) { // back to the substrate
+            next = kAtSubstrate;
+        } else if (outcome == kPrismAbsorbed) {
+            fate = kFateAbsorbedFaces;
+            next = kEnded;
+        } else {
+            transmitted += outcome == kPrismTransmitted;
+            next = kGoesUp;
+        }
+    }
+
+    // ---- Stores: a marked element keeps its state for its completion.
+    B.marked[j] = mark;
+    B.dx[j] = mark ? d.x : dNext.x;
+    B.dy[j] = mark ? d.y : dNext.y;
+    B.dz[j] = mark ? d.z : dNext.z;
+    B.where[j] = mark ? where : next;
+    B.visited[j] = mark ? B.visited[j] : visited;
+    B.events[j] = mark ? B.events[j] : events;
+    B.fate[j] = mark ? B.fate[j] : fate;
+    B.retro[j] = mark ? B.retro[j] : retro;
+    B.transmitted[j] = mark ? B.transmitted[j] : transmitted;
+    B.substrate[j] = mark ? B.substrate[j] : substrate;
+}
+
+inline __attribute__((always_inline)) void round_below(BelowList& B, int n, const Sheet& sheet,
+                                                       bool averagedCube) {
+    NoRng none;
+#pragma omp simd
+    for (int j = 0; j < n; ++j) {
+        std::uint64_t& s0 = B.s0[j];
+        std::uint64_t& s1 = B.s1[j];
+        std::uint64_t& s2 = B.s2[j];
+        std::uint64_t& s3 = B.s3[j];
+        const std::uint64_t D0 = Rng::xoshiro256ss(s0, s1, s2, s3);
+        const std::uint64_t D1 = Rng::xoshiro256ss(s0, s1, s2, s3);
+        const std::uint64_t D2 = Rng::xoshiro256ss(s0, s1, s2, s3);
+        B.draw[0][j] = D0;
+        B.draw[1][j] = D1;
+        B.draw[2][j] = D2;
+        below_step<true>(B, j, sheet, averagedCube, D0, D1, D2, none);
+    }
+}
+
+// One round of every lane, for one instruction set.
+inline __attribute__((always_inline)) void round_of_lanes(Lanes& L, int n, const Sheet& sheet) {
+    NoRng none;
+#pragma omp simd
+    for (int i = 0; i < n; ++i) {
+        std::uint64_t& s0 = L.s0[i];
+        std::uint64_t& s1 = L.s1[i];
+        std::uint64_t& s2 = L.s2[i];
+        std::uint64_t& s3 = L.s3[i];
+        const std::uint64_t D0 = Rng::xoshiro256ss(s0, s1, s2, s3);
+        const std::uint64_t D1 = Rng::xoshiro256ss(s0, s1, s2, s3);
+        const std::uint64_t D2 = Rng::xoshiro256ss(s0, s1, s2, s3);
+        const std::uint64_t D3 = Rng::xoshiro256ss(s0, s1, s2, s3);
+        const std::uint64_t D4 = Rng::xoshiro256ss(s0, s1, s2, s3);
+        L.draw[0][i] = D0;
+        L.draw[1][i] = D1;
+        L.draw[2][i] = D2;
+        L.draw[3][i] = D3;
+        L.draw[4][i] = D4;
+        step<true>(L, i, sheet, D0, D1, D2, D3, D4, none);
+    }
+}
+
+// The two rounds of one instruction set.
+struct Rounds {
+    void (*surface)(Lanes&, int, const Sheet&);
+    void (*below)(BelowList&, int, const Sheet&, bool);
+};
+#define RP_SIM_ROUNDS(NAME, ...)                                                                   \
+    __VA_ARGS__ __attribute__((flatten, noinline)) void NAME##_surface(Lanes& L, int n,            \
+                                                                       const Sheet& sheet) {       \
+        round_of_lanes(L, n, sheet);                                                               \
+    }                                                                                              \
+    __VA_ARGS__ __attribute__((flatten, noinline)) void NAME##_below(                              \
+        BelowList& B, int n, const Sheet& sheet, bool averagedCube) {                              \
+        round_below(B, n, sheet, averagedCube);                                                    \
+    }                                                                                              \
+    const Rounds NAME = {NAME##_surface, NAME##_below};
+RP_SIM_ROUNDS(rounds_baseline, )
+RP_SIM_ROUNDS(rounds_avx2, RP_TARGET_AVX2)
+RP_SIM_ROUNDS(rounds_avx512, RP_TARGET_AVX512)
+#undef RP_SIM_ROUNDS
+
+const Rounds& rounds(SimdLevel level) {
+    switch (std::min(level, simd_level_supported())) {
+    case SimdLevel::Avx512:
+        return rounds_avx512;
+    case SimdLevel::Avx2:
+        return rounds_avx2;
+    default:
+        return rounds_baseline;
+    }
+}
+
+} // namespace
+
+void trace_chunk(const Sheet& sheet, const dvec3& wi, const dvec3& e1, const dvec3& e2, double cone,
+                 const std::vector<Grid>& grids, std::uint64_t seed, std::uint64_t chunk,
+                 std::uint64_t n, Tally& t, SimdLevel level) {
+    const Rounds& run = rounds(level);
+    const bool averagedCube = sheet.era_mode == f64::RP_ERA_AVERAGED && sheet.cant_deg == 0.0 &&
+                              sheet.dihedral_arcmin == 0.0 && sheet.dihedral_spread_arcmin == 0.0;
+    Rng rng(seed, chunk); // the rays' directions in a cone
+    Lanes L;
+    BelowList B;
+    // Streams (seed, chunk + k 2^40), k = 1 .. kLanes for the lanes and kLanes + 1 .. 2 kLanes
+    // for the positions of the list below the surface: disjoint from the chunks' own (< 2^40).
+    const auto stream = [&](std::uint64_t k, std::uint64_t* s0, std::uint64_t* s1,
+                            std::uint64_t* s2, std::uint64_t* s3) {
+        std::uint64_t s[4];
+        Rng(seed, chunk + k * (std::uint64_t(1) << 40)).state(s);
+        *s0 = s[0];
+        *s1 = s[1];
+        *s2 = s[2];
+        *s3 = s[3];
+    };
+    for (int i = 0; i < kLanes; ++i) {
+        stream(std::uint64_t(i) + 1, &L.s0[i], &L.s1[i], &L.s2[i], &L.s3[i]);
+        stream(std::uint64_t(kLanes + i) + 1, &B.s0[i], &B.s1[i], &B.s2[i], &B.s3[i]);
+        L.phase[i] = kIdle;
+        L.marked[i] = 0;
+    }
+    const auto rngOf = [](const std::uint64_t* s0, const std::uint64_t* s1, const std::uint64_t* s2,
+                          const std::uint64_t* s3) {
+        const std::uint64_t s[4] = {*s0, *s1, *s2, *s3};
+        return Rng::from_state(s);
+    };
+    const auto keep = [](const Rng& r, std::uint64_t* s0, std::uint64_t* s1, std::uint64_t* s2,
+                         std::uint64_t* s3) {
+        std::uint64_t s[4];
+        r.state(s);
+        *s0 = s[0];
+        *s1 = s[1];
+        *s2 = s[2];
+        *s3 = s[3];
+    };
+    const bool upThrough = sheet.upward_through_prisms;
+    std::uint64_t started = 0;
+    // A lane takes the chunk's next ray.
+    const auto start = [&](int i) {
+        ++started;
+        const dvec3 w = cone > 0 ? sample_cone(wi, e1, e2, cone, rng) : wi;
+        L.wx[i] = -w.x;
+        L.wy[i] = -w.y;
+        L.wz[i] = -w.z;
+        L.depth[i] = 0.0;
+        L.outside[i] = L.depthOutside[i] = 1;
+        L.order[i] = L.upward[i] = 0;
+        L.phase[i] = kWalk;
+        L.path[i] = Path();
+        L.visited[i] = false;
+        L.events[i] = 0;
+    };
+    int lanes = 0; // the lanes in use, [0, lanes): all of them until the chunk's rays run out
+    while (lanes < kLanes && started < n)
+        start(lanes++);
+    int attention[kLanes], done[kLanes], finished[kLanes], hole[kLanes], mover[kLanes];
+    while (lanes > 0) {
+        run.surface(L, lanes, sheet);
+        // The lanes the round left to this loop (without a branch per lane).
+        int na = 0;
+        for (int i = 0; i < lanes; ++i) {
+            attention[na] = i;
+            na += int((L.phase[i] >= kLeft) | (L.marked[i] != 0));
+        }
+        // The marked lanes' events, completed one lane at a time with their own generators;
+        // finished crossings: exits, or the light goes below the surface.
+        int nb = 0, nd = 0;
+        for (int k = 0; k < na; ++k) {
+            const int i = attention[k];
+            if (L.marked[i]) {
+                Rng r = rngOf(&L.s0[i], &L.s1[i], &L.s2[i], &L.s3[i]);
+                step<false>(L, i, sheet, L.draw[0][i], L.draw[1][i], L.draw[2][i], L.draw[3][i],
+                            L.draw[4][i], r);
+                keep(r, &L.s0[i], &L.s1[i], &L.s2[i], &L.s3[i]);
+                L.marked[i] = 0;
+            }
+            if (L.phase[i] == kDone) { // trapped in the crossing (Path's fate as it starts)
+                done[nd++] = i;
+                continue;
+            }
+            if (L.phase[i] != kLeft) continue;
+            Path& p = L.path[i];
+            const bool upward = L.upward[i] != 0;
+            if (L.outside[i]) { // an exit (after_crossing's)
+                p.fate = !upward ? kFateSurface : L.visited[i] ? kFateDiffuse : kFateRetro;
+                p.wo = dvec3(L.wx[i], L.wy[i], L.wz[i]);
+                if (!upward) p.surface_order = int(L.order[i]);
+                L.phase[i] = kDone;
+                done[nd++] = i;
+                continue;
+            }
+            Where where = kDown;
+            if (upward) {
+                ++p.internal_reflections;
+                if (L.visited[i] && !upThrough) where = kAtSubstrate;
+            }
+            B.dx[nb] = L.wx[i];
+            B.dy[nb] = L.wy[i];
+            B.dz[nb] = L.wz[i];
+            B.where[nb] = where;
+            B.lane[nb] = i;
+            B.visited[nb] = L.visited[i];
+            B.events[nb] = L.events[i];
+            B.fate[nb] = kFateTrapped;
+            B.retro[nb] = p.retroreflections;
+            B.transmitted[nb] = p.face_transmissions;
+            B.substrate[nb] = p.substrate_hits;
+            B.marked[nb] = 0;
+            ++nb;
+            L.phase[i] = kBelow;
+        }
+        // Below the surface, round by round until every element has gone up or ended.
+        while (nb > 0) {
+            run.below(B, nb, sheet, averagedCube);
+            if (!averagedCube) { // the other cubes: in the marked elements' completions
+                for (int j = 0; j < nb; ++j) {
+                    if (!B.marked[j]) continue;
+                    Rng r = rngOf(&B.s0[j], &B.s1[j], &B.s2[j], &B.s3[j]);
+                    below_step<false>(B, j, sheet, averagedCube, B.draw[0][j], B.draw[1][j],
+                                      B.draw[2][j], r);
+                    keep(r, &B.s0[j], &B.s1[j], &B.s2[j], &B.s3[j]);
+                }
+            }
+            // The elements that have gone up or ended (found without a branch per element) go
+            // back to their lanes: up to the top surface (an event), or done.
+            int nf = 0;
+            for (int j = 0; j < nb; ++j) {
+                finished[nf] = j;
+                nf += int(B.where[j] >= kGoesUp);
+            }
+            for (int k = 0; k < nf; ++k) {
+                const int j = finished[k], i = int(B.lane[j]);
+                Path& p = L.path[i];
+                p.retroreflections = int(B.retro[j]);
+                p.face_transmissions = int(B.transmitted[j]);
+                p.substrate_hits = int(B.substrate[j]);
+                p.fate = int(B.fate[j]);
+                L.visited[i] = B.visited[j] != 0;
+                L.events[i] = int(B.events[j]);
+                if (B.where[j] == kGoesUp && L.events[i] != kMaxEvents) {
+                    ++L.events[i];
+                    L.wx[i] = B.dx[j];
+                    L.wy[i] = B.dy[j];
+                    L.wz[i] = B.dz[j];
+                    L.depth[i] = 0.0;
+                    L.outside[i] = L.depthOutside[i] = 0;
+                    L.order[i] = 0;
+                    L.upward[i] = 1;
+                    L.phase[i] = kWalk;
+                } else {
+                    L.phase[i] = kDone; // p.fate says how (trapped at the event limit)
+                    done[nd++] = i;
+                }
+            }
+            // The others fill the front of the list: those beyond its new end move into the
+            // finished ones' places before it (each position keeps its generator).
+            const int kept = nb - nf;
+            int holes = 0, movers = 0;
+            for (int j = 0; j < nb; ++j) {
+                const bool gone = B.where[j] >= kGoesUp;
+                hole[holes] = j;
+                holes += int(gone & (j < kept));
+                mover[movers] = j;
+                movers += int(!gone & (j >= kept));
+            }
+            for (int k = 0; k < movers; ++k) {
+                const int to = hole[k], from = mover[k];
+                B.dx[to] = B.dx[from];
+                B.dy[to] = B.dy[from];
+                B.dz[to] = B.dz[from];
+                B.where[to] = B.where[from];
+                B.lane[to] = B.lane[from];
+                B.visited[to] = B.visited[from];
+                B.events[to] = B.events[from];
+                B.fate[to] = B.fate[from];
+                B.retro[to] = B.retro[from];
+                B.transmitted[to] = B.transmitted[from];
+                B.substrate[to] = B.substrate[from];
+            }
+            nb = kept;
+        }
+        // Finished paths are tallied, and their lanes take the next rays.
+        for (int k = 0; k < nd; ++k) {
+            const int i = done[k];
+            tally_path(L.path[i], grids, t);
+            if (started < n)
+                start(i);
+            else
+                L.phase[i] = kIdle;
+        }
+        if (started == n && nd > 0) {
+            // The chunk's last rays: the lanes still in use move to the front, so that the rounds
+            // run over them alone (each position keeps its generator).
+            int kept = 0;
+            for (int i = 0; i < lanes; ++i) {
+                if (L.phase[i] == kIdle) continue;
+                if (kept != i) {
+                    L.wx[kept] = L.wx[i];
+                    L.wy[kept] = L.wy[i];
+                    L.wz[kept] = L.wz[i];
+                    L.depth[kept] = L.depth[i];
+                    L.outside[kept] = L.outside[i];
+                    L.depthOutside[kept] = L.depthOutside[i];
+                    L.order[kept] = L.order[i];
+                    L.upward[kept] = L.upward[i];
+                    L.phase[kept] = L.phase[i];
+                    L.path[kept] = L.path[i];
+                    L.visited[kept] = L.visited[i];
+                    L.events[kept] = L.events[i];
+                    L.phase[i] = kIdle;
+                }
+                ++kept;
+            }
+            lanes = kept;
+        }
+    }
+    t.rays += n;
+}
+
+} // namespace tracing
+} // namespace sim
+} // namespace retroprism
