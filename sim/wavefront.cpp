@@ -411,230 +411,273 @@ const Rounds& rounds(SimdLevel level) {
     }
 }
 
+// A generator from a state held in four words, and back.
+Rng rng_of(const std::uint64_t& s0, const std::uint64_t& s1, const std::uint64_t& s2,
+           const std::uint64_t& s3) {
+    const std::uint64_t s[4] = {s0, s1, s2, s3};
+    return Rng::from_state(s);
+}
+void keep_state(const Rng& r, std::uint64_t& s0, std::uint64_t& s1, std::uint64_t& s2,
+                std::uint64_t& s3) {
+    std::uint64_t s[4];
+    r.state(s);
+    s0 = s[0];
+    s1 = s[1];
+    s2 = s[2];
+    s3 = s[3];
+}
+
+// One chunk's rays through the rounds: the lanes, the list below the surface, and the work of
+// one ray at a time between the rounds.
+class Chunk {
+  public:
+    Chunk(const Sheet& sheet, const dvec3& wi, const dvec3& e1, const dvec3& e2, double cone,
+          const std::vector<Grid>& grids, std::uint64_t seed, std::uint64_t chunk, std::uint64_t n,
+          Tally& t, SimdLevel level)
+        : sheet_(sheet), wi_(wi), e1_(e1), e2_(e2), cone_(cone), grids_(grids), n_(n), t_(t),
+          run_(rounds(level)), rng_(seed, chunk),
+          averagedCube_(sheet.era_mode == f64::RP_ERA_AVERAGED && sheet.cant_deg == 0.0 &&
+                        sheet.dihedral_arcmin == 0.0 && sheet.dihedral_spread_arcmin == 0.0) {
+        // Streams (seed, chunk + k 2^40), k = 1 .. kLanes for the lanes and kLanes + 1 ..
+        // 2 kLanes for the positions of the list below the surface: disjoint from the chunks'
+        // own (< 2^40).
+        for (int i = 0; i < kLanes; ++i) {
+            const std::uint64_t k = std::uint64_t(i) + 1;
+            keep_state(Rng(seed, chunk + k * (std::uint64_t(1) << 40)), L_.s0[i], L_.s1[i],
+                       L_.s2[i], L_.s3[i]);
+            keep_state(Rng(seed, chunk + (k + kLanes) * (std::uint64_t(1) << 40)), B_.s0[i],
+                       B_.s1[i], B_.s2[i], B_.s3[i]);
+            L_.phase[i] = kIdle;
+            L_.marked[i] = 0;
+        }
+    }
+
+    void run() {
+        while (lanes_ < kLanes && started_ < n_)
+            start(lanes_++);
+        while (lanes_ > 0) {
+            run_.surface(L_, lanes_, sheet_);
+            nb_ = nd_ = 0;
+            after_surface_round();
+            while (nb_ > 0)
+                below_round();
+            // Finished paths are tallied, and their lanes take the next rays.
+            for (int k = 0; k < nd_; ++k) {
+                const int i = done_[k];
+                tally_path(L_.path[i], grids_, t_);
+                if (started_ < n_)
+                    start(i);
+                else
+                    L_.phase[i] = kIdle;
+            }
+            if (started_ == n_ && nd_ > 0) close_up_lanes();
+        }
+        t_.rays += n_;
+    }
+
+  private:
+    // A lane takes the chunk's next ray.
+    void start(int i) {
+        ++started_;
+        const dvec3 w = cone_ > 0 ? sample_cone(wi_, e1_, e2_, cone_, rng_) : wi_;
+        L_.wx[i] = -w.x;
+        L_.wy[i] = -w.y;
+        L_.wz[i] = -w.z;
+        L_.depth[i] = 0.0;
+        L_.outside[i] = L_.depthOutside[i] = 1;
+        L_.order[i] = L_.upward[i] = 0;
+        L_.phase[i] = kWalk;
+        L_.path[i] = Path();
+        L_.visited[i] = false;
+        L_.events[i] = 0;
+    }
+
+    // The lanes the surface round left to this loop (found without a branch per lane): the
+    // marked ones, completed one lane at a time with their own generators; finished crossings:
+    // exits, or the light goes below the surface.
+    void after_surface_round() {
+        int na = 0;
+        for (int i = 0; i < lanes_; ++i) {
+            attention_[na] = i;
+            na += int((L_.phase[i] >= kLeft) | (L_.marked[i] != 0));
+        }
+        for (int k = 0; k < na; ++k) {
+            const int i = attention_[k];
+            if (L_.marked[i]) {
+                Rng r = rng_of(L_.s0[i], L_.s1[i], L_.s2[i], L_.s3[i]);
+                step<false>(L_, i, sheet_, L_.draw[0][i], L_.draw[1][i], L_.draw[2][i],
+                            L_.draw[3][i], L_.draw[4][i], r);
+                keep_state(r, L_.s0[i], L_.s1[i], L_.s2[i], L_.s3[i]);
+                L_.marked[i] = 0;
+            }
+            if (L_.phase[i] == kDone) { // trapped in the crossing (Path's fate as it starts)
+                done_[nd_++] = i;
+            } else if (L_.phase[i] == kLeft) {
+                leave_crossing(i);
+            }
+        }
+    }
+
+    // The exit of lane i's path (after_crossing's), or its light into the list below.
+    void leave_crossing(int i) {
+        Path& p = L_.path[i];
+        const bool upward = L_.upward[i] != 0;
+        if (L_.outside[i]) {
+            p.fate = !upward ? kFateSurface : L_.visited[i] ? kFateDiffuse : kFateRetro;
+            p.wo = dvec3(L_.wx[i], L_.wy[i], L_.wz[i]);
+            if (!upward) p.surface_order = int(L_.order[i]);
+            L_.phase[i] = kDone;
+            done_[nd_++] = i;
+            return;
+        }
+        Where where = kDown;
+        if (upward) {
+            ++p.internal_reflections;
+            if (L_.visited[i] && !sheet_.upward_through_prisms) where = kAtSubstrate;
+        }
+        const int j = nb_++;
+        B_.dx[j] = L_.wx[i];
+        B_.dy[j] = L_.wy[i];
+        B_.dz[j] = L_.wz[i];
+        B_.where[j] = where;
+        B_.lane[j] = i;
+        B_.visited[j] = L_.visited[i];
+        B_.events[j] = L_.events[i];
+        B_.fate[j] = kFateTrapped;
+        B_.retro[j] = p.retroreflections;
+        B_.transmitted[j] = p.face_transmissions;
+        B_.substrate[j] = p.substrate_hits;
+        B_.marked[j] = 0;
+        L_.phase[i] = kBelow;
+    }
+
+    // One round below the surface; the elements that have gone up or ended (found without a
+    // branch per element) go back to their lanes and the list closes up.
+    void below_round() {
+        run_.below(B_, nb_, sheet_, averagedCube_);
+        if (!averagedCube_) { // the other cubes: in the marked elements' completions
+            for (int j = 0; j < nb_; ++j) {
+                if (!B_.marked[j]) continue;
+                Rng r = rng_of(B_.s0[j], B_.s1[j], B_.s2[j], B_.s3[j]);
+                below_step<false>(B_, j, sheet_, averagedCube_, B_.draw[0][j], B_.draw[1][j],
+                                  B_.draw[2][j], r);
+                keep_state(r, B_.s0[j], B_.s1[j], B_.s2[j], B_.s3[j]);
+            }
+        }
+        int nf = 0;
+        for (int j = 0; j < nb_; ++j) {
+            finished_[nf] = j;
+            nf += int(B_.where[j] >= kGoesUp);
+        }
+        for (int k = 0; k < nf; ++k)
+            back_to_lane(finished_[k]);
+        close_up_list(nb_ - nf);
+    }
+
+    // Element j back to its lane: up to the top surface (an event), or done.
+    void back_to_lane(int j) {
+        const int i = int(B_.lane[j]);
+        Path& p = L_.path[i];
+        p.retroreflections = int(B_.retro[j]);
+        p.face_transmissions = int(B_.transmitted[j]);
+        p.substrate_hits = int(B_.substrate[j]);
+        p.fate = int(B_.fate[j]);
+        L_.visited[i] = B_.visited[j] != 0;
+        L_.events[i] = int(B_.events[j]);
+        if (B_.where[j] == kGoesUp && L_.events[i] != kMaxEvents) {
+            ++L_.events[i];
+            L_.wx[i] = B_.dx[j];
+            L_.wy[i] = B_.dy[j];
+            L_.wz[i] = B_.dz[j];
+            L_.depth[i] = 0.0;
+            L_.outside[i] = L_.depthOutside[i] = 0;
+            L_.order[i] = 0;
+            L_.upward[i] = 1;
+            L_.phase[i] = kWalk;
+        } else {
+            L_.phase[i] = kDone; // p.fate says how (trapped at the event limit)
+            done_[nd_++] = i;
+        }
+    }
+
+    // The elements still below fill the front of the list: those beyond its new end move into
+    // the finished ones' places before it (each position keeps its generator).
+    void close_up_list(int kept) {
+        int holes = 0, movers = 0;
+        for (int j = 0; j < nb_; ++j) {
+            const bool gone = B_.where[j] >= kGoesUp;
+            hole_[holes] = j;
+            holes += int(gone & (j < kept));
+            mover_[movers] = j;
+            movers += int(!gone & (j >= kept));
+        }
+        for (int k = 0; k < movers; ++k) {
+            const int to = hole_[k], from = mover_[k];
+            B_.dx[to] = B_.dx[from];
+            B_.dy[to] = B_.dy[from];
+            B_.dz[to] = B_.dz[from];
+            B_.where[to] = B_.where[from];
+            B_.lane[to] = B_.lane[from];
+            B_.visited[to] = B_.visited[from];
+            B_.events[to] = B_.events[from];
+            B_.fate[to] = B_.fate[from];
+            B_.retro[to] = B_.retro[from];
+            B_.transmitted[to] = B_.transmitted[from];
+            B_.substrate[to] = B_.substrate[from];
+        }
+        nb_ = kept;
+    }
+
+    // The chunk's last rays: the lanes still in use move to the front, so that the rounds run
+    // over them alone (each position keeps its generator).
+    void close_up_lanes() {
+        int kept = 0;
+        for (int i = 0; i < lanes_; ++i) {
+            if (L_.phase[i] == kIdle) continue;
+            if (kept != i) {
+                L_.wx[kept] = L_.wx[i];
+                L_.wy[kept] = L_.wy[i];
+                L_.wz[kept] = L_.wz[i];
+                L_.depth[kept] = L_.depth[i];
+                L_.outside[kept] = L_.outside[i];
+                L_.depthOutside[kept] = L_.depthOutside[i];
+                L_.order[kept] = L_.order[i];
+                L_.upward[kept] = L_.upward[i];
+                L_.phase[kept] = L_.phase[i];
+                L_.path[kept] = L_.path[i];
+                L_.visited[kept] = L_.visited[i];
+                L_.events[kept] = L_.events[i];
+                L_.phase[i] = kIdle;
+            }
+            ++kept;
+        }
+        lanes_ = kept;
+    }
+
+    const Sheet& sheet_;
+    const dvec3 wi_, e1_, e2_;
+    const double cone_;
+    const std::vector<Grid>& grids_;
+    const std::uint64_t n_;
+    Tally& t_;
+    const Rounds& run_;
+    Rng rng_; // the rays' directions in a cone
+    const bool averagedCube_;
+    Lanes L_;
+    BelowList B_;
+    std::uint64_t started_ = 0;
+    int lanes_ = 0; // the lanes in use, [0, lanes_): all of them until the rays run out
+    int nb_ = 0;    // elements in the list below the surface
+    int nd_ = 0;    // finished paths of this round
+    int attention_[kLanes], done_[kLanes], finished_[kLanes], hole_[kLanes], mover_[kLanes];
+};
+
 } // namespace
 
 void trace_chunk(const Sheet& sheet, const dvec3& wi, const dvec3& e1, const dvec3& e2, double cone,
                  const std::vector<Grid>& grids, std::uint64_t seed, std::uint64_t chunk,
                  std::uint64_t n, Tally& t, SimdLevel level) {
-    const Rounds& run = rounds(level);
-    const bool averagedCube = sheet.era_mode == f64::RP_ERA_AVERAGED && sheet.cant_deg == 0.0 &&
-                              sheet.dihedral_arcmin == 0.0 && sheet.dihedral_spread_arcmin == 0.0;
-    Rng rng(seed, chunk); // the rays' directions in a cone
-    Lanes L;
-    BelowList B;
-    // Streams (seed, chunk + k 2^40), k = 1 .. kLanes for the lanes and kLanes + 1 .. 2 kLanes
-    // for the positions of the list below the surface: disjoint from the chunks' own (< 2^40).
-    const auto stream = [&](std::uint64_t k, std::uint64_t* s0, std::uint64_t* s1,
-                            std::uint64_t* s2, std::uint64_t* s3) {
-        std::uint64_t s[4];
-        Rng(seed, chunk + k * (std::uint64_t(1) << 40)).state(s);
-        *s0 = s[0];
-        *s1 = s[1];
-        *s2 = s[2];
-        *s3 = s[3];
-    };
-    for (int i = 0; i < kLanes; ++i) {
-        stream(std::uint64_t(i) + 1, &L.s0[i], &L.s1[i], &L.s2[i], &L.s3[i]);
-        stream(std::uint64_t(kLanes + i) + 1, &B.s0[i], &B.s1[i], &B.s2[i], &B.s3[i]);
-        L.phase[i] = kIdle;
-        L.marked[i] = 0;
-    }
-    const auto rngOf = [](const std::uint64_t* s0, const std::uint64_t* s1, const std::uint64_t* s2,
-                          const std::uint64_t* s3) {
-        const std::uint64_t s[4] = {*s0, *s1, *s2, *s3};
-        return Rng::from_state(s);
-    };
-    const auto keep = [](const Rng& r, std::uint64_t* s0, std::uint64_t* s1, std::uint64_t* s2,
-                         std::uint64_t* s3) {
-        std::uint64_t s[4];
-        r.state(s);
-        *s0 = s[0];
-        *s1 = s[1];
-        *s2 = s[2];
-        *s3 = s[3];
-    };
-    const bool upThrough = sheet.upward_through_prisms;
-    std::uint64_t started = 0;
-    // A lane takes the chunk's next ray.
-    const auto start = [&](int i) {
-        ++started;
-        const dvec3 w = cone > 0 ? sample_cone(wi, e1, e2, cone, rng) : wi;
-        L.wx[i] = -w.x;
-        L.wy[i] = -w.y;
-        L.wz[i] = -w.z;
-        L.depth[i] = 0.0;
-        L.outside[i] = L.depthOutside[i] = 1;
-        L.order[i] = L.upward[i] = 0;
-        L.phase[i] = kWalk;
-        L.path[i] = Path();
-        L.visited[i] = false;
-        L.events[i] = 0;
-    };
-    int lanes = 0; // the lanes in use, [0, lanes): all of them until the chunk's rays run out
-    while (lanes < kLanes && started < n)
-        start(lanes++);
-    int attention[kLanes], done[kLanes], finished[kLanes], hole[kLanes], mover[kLanes];
-    while (lanes > 0) {
-        run.surface(L, lanes, sheet);
-        // The lanes the round left to this loop (without a branch per lane).
-        int na = 0;
-        for (int i = 0; i < lanes; ++i) {
-            attention[na] = i;
-            na += int((L.phase[i] >= kLeft) | (L.marked[i] != 0));
-        }
-        // The marked lanes' events, completed one lane at a time with their own generators;
-        // finished crossings: exits, or the light goes below the surface.
-        int nb = 0, nd = 0;
-        for (int k = 0; k < na; ++k) {
-            const int i = attention[k];
-            if (L.marked[i]) {
-                Rng r = rngOf(&L.s0[i], &L.s1[i], &L.s2[i], &L.s3[i]);
-                step<false>(L, i, sheet, L.draw[0][i], L.draw[1][i], L.draw[2][i], L.draw[3][i],
-                            L.draw[4][i], r);
-                keep(r, &L.s0[i], &L.s1[i], &L.s2[i], &L.s3[i]);
-                L.marked[i] = 0;
-            }
-            if (L.phase[i] == kDone) { // trapped in the crossing (Path's fate as it starts)
-                done[nd++] = i;
-                continue;
-            }
-            if (L.phase[i] != kLeft) continue;
-            Path& p = L.path[i];
-            const bool upward = L.upward[i] != 0;
-            if (L.outside[i]) { // an exit (after_crossing's)
-                p.fate = !upward ? kFateSurface : L.visited[i] ? kFateDiffuse : kFateRetro;
-                p.wo = dvec3(L.wx[i], L.wy[i], L.wz[i]);
-                if (!upward) p.surface_order = int(L.order[i]);
-                L.phase[i] = kDone;
-                done[nd++] = i;
-                continue;
-            }
-            Where where = kDown;
-            if (upward) {
-                ++p.internal_reflections;
-                if (L.visited[i] && !upThrough) where = kAtSubstrate;
-            }
-            B.dx[nb] = L.wx[i];
-            B.dy[nb] = L.wy[i];
-            B.dz[nb] = L.wz[i];
-            B.where[nb] = where;
-            B.lane[nb] = i;
-            B.visited[nb] = L.visited[i];
-            B.events[nb] = L.events[i];
-            B.fate[nb] = kFateTrapped;
-            B.retro[nb] = p.retroreflections;
-            B.transmitted[nb] = p.face_transmissions;
-            B.substrate[nb] = p.substrate_hits;
-            B.marked[nb] = 0;
-            ++nb;
-            L.phase[i] = kBelow;
-        }
-        // Below the surface, round by round until every element has gone up or ended.
-        while (nb > 0) {
-            run.below(B, nb, sheet, averagedCube);
-            if (!averagedCube) { // the other cubes: in the marked elements' completions
-                for (int j = 0; j < nb; ++j) {
-                    if (!B.marked[j]) continue;
-                    Rng r = rngOf(&B.s0[j], &B.s1[j], &B.s2[j], &B.s3[j]);
-                    below_step<false>(B, j, sheet, averagedCube, B.draw[0][j], B.draw[1][j],
-                                      B.draw[2][j], r);
-                    keep(r, &B.s0[j], &B.s1[j], &B.s2[j], &B.s3[j]);
-                }
-            }
-            // The elements that have gone up or ended (found without a branch per element) go
-            // back to their lanes: up to the top surface (an event), or done.
-            int nf = 0;
-            for (int j = 0; j < nb; ++j) {
-                finished[nf] = j;
-                nf += int(B.where[j] >= kGoesUp);
-            }
-            for (int k = 0; k < nf; ++k) {
-                const int j = finished[k], i = int(B.lane[j]);
-                Path& p = L.path[i];
-                p.retroreflections = int(B.retro[j]);
-                p.face_transmissions = int(B.transmitted[j]);
-                p.substrate_hits = int(B.substrate[j]);
-                p.fate = int(B.fate[j]);
-                L.visited[i] = B.visited[j] != 0;
-                L.events[i] = int(B.events[j]);
-                if (B.where[j] == kGoesUp && L.events[i] != kMaxEvents) {
-                    ++L.events[i];
-                    L.wx[i] = B.dx[j];
-                    L.wy[i] = B.dy[j];
-                    L.wz[i] = B.dz[j];
-                    L.depth[i] = 0.0;
-                    L.outside[i] = L.depthOutside[i] = 0;
-                    L.order[i] = 0;
-                    L.upward[i] = 1;
-                    L.phase[i] = kWalk;
-                } else {
-                    L.phase[i] = kDone; // p.fate says how (trapped at the event limit)
-                    done[nd++] = i;
-                }
-            }
-            // The others fill the front of the list: those beyond its new end move into the
-            // finished ones' places before it (each position keeps its generator).
-            const int kept = nb - nf;
-            int holes = 0, movers = 0;
-            for (int j = 0; j < nb; ++j) {
-                const bool gone = B.where[j] >= kGoesUp;
-                hole[holes] = j;
-                holes += int(gone & (j < kept));
-                mover[movers] = j;
-                movers += int(!gone & (j >= kept));
-            }
-            for (int k = 0; k < movers; ++k) {
-                const int to = hole[k], from = mover[k];
-                B.dx[to] = B.dx[from];
-                B.dy[to] = B.dy[from];
-                B.dz[to] = B.dz[from];
-                B.where[to] = B.where[from];
-                B.lane[to] = B.lane[from];
-                B.visited[to] = B.visited[from];
-                B.events[to] = B.events[from];
-                B.fate[to] = B.fate[from];
-                B.retro[to] = B.retro[from];
-                B.transmitted[to] = B.transmitted[from];
-                B.substrate[to] = B.substrate[from];
-            }
-            nb = kept;
-        }
-        // Finished paths are tallied, and their lanes take the next rays.
-        for (int k = 0; k < nd; ++k) {
-            const int i = done[k];
-            tally_path(L.path[i], grids, t);
-            if (started < n)
-                start(i);
-            else
-                L.phase[i] = kIdle;
-        }
-        if (started == n && nd > 0) {
-            // The chunk's last rays: the lanes still in use move to the front, so that the rounds
-            // run over them alone (each position keeps its generator).
-            int kept = 0;
-            for (int i = 0; i < lanes; ++i) {
-                if (L.phase[i] == kIdle) continue;
-                if (kept != i) {
-                    L.wx[kept] = L.wx[i];
-                    L.wy[kept] = L.wy[i];
-                    L.wz[kept] = L.wz[i];
-                    L.depth[kept] = L.depth[i];
-                    L.outside[kept] = L.outside[i];
-                    L.depthOutside[kept] = L.depthOutside[i];
-                    L.order[kept] = L.order[i];
-                    L.upward[kept] = L.upward[i];
-                    L.phase[kept] = L.phase[i];
-                    L.path[kept] = L.path[i];
-                    L.visited[kept] = L.visited[i];
-                    L.events[kept] = L.events[i];
-                    L.phase[i] = kIdle;
-                }
-                ++kept;
-            }
-            lanes = kept;
-        }
-    }
-    t.rays += n;
+    Chunk(sheet, wi, e1, e2, cone, grids, seed, chunk, n, t, level).run();
 }
 
 } // namespace tracing
