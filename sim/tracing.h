@@ -174,7 +174,7 @@ inline void averaged_cube_b(const dvec3& d, double u, double b[3]) {
 // critical angle, as a fraction n / d over one denominator (no division, for vectorised code):
 // with cos_t = sqrt(1 - eta^2 (1 - c^2)), ds = eta c + cos_t, dp = c + eta cos_t and
 // X = eta^2 - c^2 (eta^2 + 1), F = (r_s^2 + r_p^2) / 2 = (eta^2 - 1)^2 (dp^4 + X^2 ds^4) /
-// (2 ds^4 dp^4) (tests/sim/test_sim.cpp checks it against the core).
+// (2 ds^4 dp^4) (tests/sim/test_wavefront.cpp checks it against the core).
 inline void internal_reflectance_terms(double c, double eta, double& n, double& d) {
     const double eta2 = eta * eta;
     const double cosT = std::sqrt(std::max(0.0, 1.0 - (1.0 - c * c) * eta2));

@@ -32,9 +32,11 @@ namespace sim {
 struct UniformPair {
     double u, v;
 };
-inline UniformPair uniform_pair(Rng& rng) {
-    const std::uint64_t bits = rng.next();
+inline UniformPair uniform_pair_of(std::uint64_t bits) {
     return {double(bits >> 32) * 0x1.0p-32, double(bits & 0xffffffffu) * 0x1.0p-32};
+}
+inline UniformPair uniform_pair(Rng& rng) {
+    return uniform_pair_of(rng.next());
 }
 
 // ---- Ziggurat tables (sim/variates.cpp) ---------------------------------------------------------

@@ -62,21 +62,6 @@ struct alignas(64) Lanes {
     std::uint64_t draw[kDraws][kLanes];
 };
 
-// The bits of one draw as variates: [0, 1) with 53 bits (as Rng::uniform), a pair of 32-bit ones
-// (as uniform_pair), (0, 1) (as Rng::uniform_open).
-inline double uniform53(std::uint64_t bits) {
-    return double(bits >> 11) * 0x1.0p-53;
-}
-inline double uniform_high(std::uint64_t bits) {
-    return double(bits >> 32) * 0x1.0p-32;
-}
-inline double uniform_low(std::uint64_t bits) {
-    return double(bits & 0xffffffffu) * 0x1.0p-32;
-}
-inline double uniform_open53(std::uint64_t bits) {
-    return (double(bits >> 11) + 0.5) * 0x1.0p-53;
-}
-
 // c ? a : b by components (a select of whole vectors would pick an address to load from).
 inline dvec3 pick(bool c, const dvec3& a, const dvec3& b) {
     return dvec3(c ? a.x : b.x, c ? a.y : b.y, c ? a.z : b.z);
@@ -148,7 +133,8 @@ step(Lanes& L, int i, const Sheet& sheet, std::uint64_t D0, std::uint64_t D1, st
     const bool above = cosS > 0;
     const double wGauss = cosS * kSqrtPi;
     // The tail component when u >= wGauss / (wGauss + sinS / 2), without the division.
-    const bool tail = !alongNormal & above & (uniform_high(D2) * (wGauss + 0.5 * sinS) >= wGauss);
+    const bool tail =
+        !alongNormal & above & (uniform_pair_of(D2).u * (wGauss + 0.5 * sinS) >= wGauss);
     const bool needG3 = scattering & (alongNormal | (above & !tail));
     const bool needE3 = scattering & tail;
     const bool below = scattering & !alongNormal & !above;
@@ -164,11 +150,11 @@ step(Lanes& L, int i, const Sheet& sheet, std::uint64_t D0, std::uint64_t D1, st
     double sx = tail ? -rootE3 : x;
     if (!kVector & below) { // constant-folded in the vector loop
         const double n = 1.0 / std::sqrt(cosS * cosS + sinS * sinS);
-        sx = visible_slope_x(cosS * n, sinS * n, uniform_open53(D3));
+        sx = visible_slope_x(cosS * n, sinS * n, Rng::uniform_open_of(D3));
     }
     // Accepted when the tail component was drawn, x <= 0, or by the ratio p / q.
     const bool accepted =
-        alongNormal | !above | tail | (x <= 0) | (uniform_low(D2) * cosS < cosS - x * sinS);
+        alongNormal | !above | tail | (x <= 0) | (uniform_pair_of(D2).v * cosS < cosS - x * sinS);
     const double inv = 1.0 / rxy;
     const double cosPhi = alongNormal ? 1.0 : v.x * inv, sinPhi = alongNormal ? 0.0 : v.y * inv;
     const double tx = alpha * (cosPhi * sx - sinPhi * sy);
@@ -181,7 +167,7 @@ step(Lanes& L, int i, const Sheet& sheet, std::uint64_t D0, std::uint64_t D1, st
     // a m + b wIn, unit up to rounding (m and wIn are unit), left unnormalised.
     const double e = outside ? eta : invEta, invE = outside ? invEta : eta;
     const double fr = f64::rp_fresnel_dielectric(c, e);
-    const bool reflects = uniform53(D4) < fr;
+    const bool reflects = Rng::uniform_of(D4) < fr;
     const double cosT = std::sqrt(std::max(0.0, 1.0 - (1.0 - c * c) * (invE * invE)));
     const double ma = reflects ? 2.0 * c : c * invE - cosT, mb = reflects ? -1.0 : -invE;
     const dvec3 wScattered = ma * m + mb * wIn;
@@ -259,10 +245,12 @@ inline __attribute__((always_inline)) void below_step(BelowList& B, int j, const
     const bool down = (where == kDown) & !trapped, upTrace = where == kUpThrough;
     const dvec3 dd = pick(upTrace, -d, d);
     double b[3];
-    averaged_cube_b(dd, uniform_high(D0), b);
-    const double roulette = uniform_low(D0);
-    PrismOutcome outcome = cube_outcome<true>(reflection, eta, metal, b, uniform53(D1),
-                                              uniform53(D2), [roulette]() { return roulette; });
+    const UniformPair turn = uniform_pair_of(D0); // the turn, the faces' roulette
+    averaged_cube_b(dd, turn.u, b);
+    const double roulette = turn.v;
+    PrismOutcome outcome =
+        cube_outcome<true>(reflection, eta, metal, b, Rng::uniform_of(D1), Rng::uniform_of(D2),
+                           [roulette]() { return roulette; });
     dvec3 exit = -dd;
     if constexpr (kVector) {
         mark |= (!averagedCube) & (down | upTrace);
@@ -273,9 +261,10 @@ inline __attribute__((always_inline)) void below_step(BelowList& B, int j, const
     // ---- The substrate: absorbed, or re-emitted by Malley's method (a uniform point of the unit
     // disk by rejection, lifted to the hemisphere)
     const bool atSubstrate = (where == kAtSubstrate) & !trapped;
-    const bool absorbed = atSubstrate & (uniform53(D0) >= kd);
+    const bool absorbed = atSubstrate & (Rng::uniform_of(D0) >= kd);
     const bool emitting = (atSubstrate & !absorbed) | (where == kEmitting);
-    const double px = 2.0 * uniform_high(D1) - 1.0, py = 2.0 * uniform_low(D1) - 1.0;
+    const UniformPair disk = uniform_pair_of(D1); // a point of the square about the disk
+    const double px = 2.0 * disk.u - 1.0, py = 2.0 * disk.v - 1.0;
     const double r2 = px * px + py * py;
     const bool emitted = emitting & (r2 < 1.0);
     const dvec3 up(px, py, std::sqrt(std::max(0.0, 1.0 - r2)));

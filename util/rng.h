@@ -50,9 +50,14 @@ class Rng {
         s3 = rotl(s3, 45);
         return result;
     }
-    double uniform() { return double(next() >> 11) * 0x1.0p-53; }              // [0, 1)
-    double uniform_open() { return (double(next() >> 11) + 0.5) * 0x1.0p-53; } // (0, 1)
-    std::size_t index(std::size_t n) { return std::size_t(next() % n); }       // [0, n)
+    double uniform() { return uniform_of(next()); }           // [0, 1)
+    double uniform_open() { return uniform_open_of(next()); } // (0, 1)
+    // The same variates of a draw's bits (for code that draws in bulk).
+    static double uniform_of(std::uint64_t bits) { return double(bits >> 11) * 0x1.0p-53; }
+    static double uniform_open_of(std::uint64_t bits) {
+        return (double(bits >> 11) + 0.5) * 0x1.0p-53;
+    }
+    std::size_t index(std::size_t n) { return std::size_t(next() % n); } // [0, n)
 
   private:
     static std::uint64_t rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
