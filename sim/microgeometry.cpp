@@ -324,8 +324,7 @@ const char* channel_name(int channel) {
                                              bool& visited, int& event, Path& p, Rng& rng,
                                              dvec3& up) {
     for (;;) {
-        if (event == kMaxEvents) return false; // trapped
-        ++event;
+        if (!count_event(event)) return false; // trapped
         if (where == Below::kPrisms) {
             const PrismOutcome o = trace_prism(sheet, d, rng, &up);
             if (o == kPrismRetro) {
@@ -368,22 +367,10 @@ const char* channel_name(int channel) {
 [[gnu::flatten]] bool tracing::after_crossing(const Sheet& sheet, const Crossing& c, bool upward,
                                               bool& visited, int& event, Path& p, Rng& rng,
                                               dvec3& up) {
-    if (c.outside) {
-        p.fate = !upward ? kFateSurface : visited ? kFateDiffuse : kFateRetro;
-        p.wo = c.dir;
-        if (!upward) p.surface_order = c.order;
-        return false;
-    }
-    Below where = Below::kPrisms;
-    if (upward) {
-        ++p.internal_reflections;
-        if (visited && !sheet.upward_through_prisms) where = Below::kSubstrate;
-    }
-    if (!below_surface(sheet, where, c.dir, visited, event, p, rng, up)) return false;
-    // The upward crossing: one event.
-    if (event == kMaxEvents) return false; // trapped
-    ++event;
-    return true;
+    Below where;
+    if (leaves_sheet(sheet, c, upward, visited, p, where)) return false;
+    // Below the surface, then the upward crossing: one event.
+    return below_surface(sheet, where, c.dir, visited, event, p, rng, up) && count_event(event);
 }
 
 // Flattened: the walk, the prism trace and the variates inlined into the path's loop (identical

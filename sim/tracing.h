@@ -267,6 +267,34 @@ enum class Below { kPrisms, kSubstrate };
 bool below_surface(const Sheet& sheet, Below where, const dvec3& d, bool& visited, int& event,
                    Path& p, Rng& rng, dvec3& up);
 
+// The end of a crossing c of the top surface (upward: from inside the sheet): an exit (true: p's
+// fate, by what the path has visited, and its exit direction set), or the light goes on below
+// the surface (false) from `where`: the prisms, or, for light reflected back by the surface after
+// the substrate on the paper's way up, the substrate (internal reflections counted).
+inline bool leaves_sheet(const Sheet& sheet, const Crossing& c, bool upward, bool visited, Path& p,
+                         Below& where) {
+    if (c.outside) {
+        p.fate = !upward ? kFateSurface : visited ? kFateDiffuse : kFateRetro;
+        p.wo = c.dir;
+        if (!upward) p.surface_order = c.order;
+        return true;
+    }
+    where = Below::kPrisms;
+    if (upward) {
+        ++p.internal_reflections;
+        if (visited && !sheet.upward_through_prisms) where = Below::kSubstrate;
+    }
+    return false;
+}
+
+// One more event of a path (a prism, the substrate, an upward crossing): false when the path has
+// had kMaxEvents already (trapped).
+inline bool count_event(int& event) {
+    if (event == kMaxEvents) return false;
+    ++event;
+    return true;
+}
+
 // A path after its crossing c of the top surface (upward: from inside the sheet): its exit (false,
 // p.fate and p.wo set), or the light inside the sheet (below_surface) until it goes up again
 // (true: the next crossing, from inside along `up`, counted as an event) or ends (false).

@@ -507,23 +507,20 @@ class Chunk {
         }
     }
 
-    // The exit of lane i's path (after_crossing's), or its light into the list below.
+    // The exit of lane i's path, or its light into the list below (leaves_sheet).
     void leave_crossing(int i) {
         Path& p = L_.path[i];
-        const bool upward = L_.upward[i] != 0;
-        if (L_.outside[i]) {
-            p.fate = !upward ? kFateSurface : L_.visited[i] ? kFateDiffuse : kFateRetro;
-            p.wo = dvec3(L_.wx[i], L_.wy[i], L_.wz[i]);
-            if (!upward) p.surface_order = int(L_.order[i]);
+        Crossing c;
+        c.dir = dvec3(L_.wx[i], L_.wy[i], L_.wz[i]);
+        c.outside = L_.outside[i] != 0;
+        c.order = int(L_.order[i]);
+        Below below;
+        if (leaves_sheet(sheet_, c, L_.upward[i] != 0, L_.visited[i], p, below)) {
             L_.phase[i] = kDone;
             done_[nd_++] = i;
             return;
         }
-        Where where = kDown;
-        if (upward) {
-            ++p.internal_reflections;
-            if (L_.visited[i] && !sheet_.upward_through_prisms) where = kAtSubstrate;
-        }
+        const Where where = below == Below::kPrisms ? kDown : kAtSubstrate;
         const int j = nb_++;
         B_.dx[j] = L_.wx[i];
         B_.dy[j] = L_.wy[i];
@@ -573,8 +570,7 @@ class Chunk {
         p.fate = int(B_.fate[j]);
         L_.visited[i] = B_.visited[j] != 0;
         L_.events[i] = int(B_.events[j]);
-        if (B_.where[j] == kGoesUp && L_.events[i] != kMaxEvents) {
-            ++L_.events[i];
+        if (B_.where[j] == kGoesUp && count_event(L_.events[i])) { // the upward crossing
             L_.wx[i] = B_.dx[j];
             L_.wy[i] = B_.dy[j];
             L_.wz[i] = B_.dz[j];
