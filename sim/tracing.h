@@ -47,8 +47,9 @@ inline double walk_lambda(const dvec3& w, double alpha) {
 // The walk keeps the depth l = -log C(h) of its height (sim/microgeometry.cpp); from the other
 // side of the microsurface the same height has depth -log(1 - exp(-l)). Evaluated with the
 // arithmetic operations alone (no library call, whose vector and scalar variants may differ in
-// the last bits): a power series of 1 - exp(-l) for l <= ln 2, else exp(-l) by argument
-// reduction and log1p(-exp(-l)) with its rounding error corrected; the logarithm by the series
+// the last bits): exp(-l) = 2^-n (1 + expm1(r)) by argument reduction, l = n ln2 - r with
+// |r| <= ln2 / 2, and expm1(r) by its power series; 1 - exp(-l) is -expm1(r) itself where n = 0,
+// else log1p(-exp(-l)) is formed with its rounding error corrected; the logarithm by the series
 // of atanh. Within 5.3e-16 relative of the exact value (tests/sim/test_wavefront.cpp against long
 // double); +inf at l = 0 (above every point, below every point from the other side).
 constexpr double kLn2Hi = 6.93147180369123816490e-01; // 32 significant bits: k kLn2Hi is exact
@@ -72,9 +73,9 @@ inline double log_unit_plus(double q, double t, double d) {
     e += high ? 1 : 0;
     const double r = 1.0 / ((m + 1.0) * d);
     const double s = (m - 1.0) * d * r, s2 = s * s; // |s| <= 0.1716, s2 <= 0.02944
-    double p = 1.0 / 25;                            // sum s2^k / (2k + 1), k <= 12
+    double p = 1.0 / 21; // sum s2^k / (2k + 1), k <= 10 (the next term below 2e-18)
 #pragma GCC unroll 32
-    for (int k = 11; k >= 0; --k)
+    for (int k = 9; k >= 0; --k)
         p = p * s2 + 1.0 / (2 * k + 1);
     const double ed = double(e);
     const double log = ed * kLn2Hi + (ed * kLn2Lo + 2.0 * s * p);
@@ -82,45 +83,39 @@ inline double log_unit_plus(double q, double t, double d) {
 }
 
 inline double depth_flip(double l) {
-    // 1/k for the series, 1/k! for exp(-r).
-    constexpr double kInv[18] = {0,        1,        1.0 / 2,  1.0 / 3,  1.0 / 4,  1.0 / 5,
-                                 1.0 / 6,  1.0 / 7,  1.0 / 8,  1.0 / 9,  1.0 / 10, 1.0 / 11,
-                                 1.0 / 12, 1.0 / 13, 1.0 / 14, 1.0 / 15, 1.0 / 16, 1.0 / 17};
-    constexpr double kInvFact[14] = {1.0,
-                                     1.0,
-                                     1.0 / 2,
-                                     1.0 / 6,
-                                     1.0 / 24,
-                                     1.0 / 120,
-                                     1.0 / 720,
-                                     1.0 / 5040,
-                                     1.0 / 40320,
-                                     1.0 / 362880,
-                                     1.0 / 3628800,
-                                     1.0 / 39916800,
-                                     1.0 / 479001600,
-                                     1.0 / 6227020800.0};
-    // l <= ln 2: q = 1 - exp(-l) = l (1 - l/2 (1 - l/3 (1 - ...))) to l^17 / 17! (the next term
-    // below 2e-19 q).
-    double q = 1.0;
-#pragma GCC unroll 32
-    for (int k = 17; k >= 2; --k)
-        q = 1.0 - l * kInv[k] * q;
-    q *= l;
-    // l > ln 2: y = exp(-l) < 1/2 by l = n ln2 - r, |r| <= ln2 / 2, exp(r) to r^13 / 13!.
+    // 1 / (k + 1)! for expm1(r) = r sum r^k / (k + 1)!, to r^14 / 14! (the next term below
+    // 2e-18 |r|).
+    constexpr double kInvFact1[14] = {1.0,
+                                      1.0 / 2,
+                                      1.0 / 6,
+                                      1.0 / 24,
+                                      1.0 / 120,
+                                      1.0 / 720,
+                                      1.0 / 5040,
+                                      1.0 / 40320,
+                                      1.0 / 362880,
+                                      1.0 / 3628800,
+                                      1.0 / 39916800,
+                                      1.0 / 479001600,
+                                      1.0 / 6227020800.0,
+                                      1.0 / 87178291200.0};
     const double lc = l < 745.2 ? l : 745.2;
     const std::int64_t n = std::int64_t(lc * 1.44269504088896340736 + 0.5);
     const double nd = double(n);
-    const double r = (nd * kLn2Hi - lc) + nd * kLn2Lo; // -l + n ln2
-    double er = kInvFact[13];
+    const double r = (nd * kLn2Hi - lc) + nd * kLn2Lo; // -l + n ln2: -l exactly where n = 0
+    double sum = kInvFact1[13];
 #pragma GCC unroll 32
     for (int k = 12; k >= 0; --k)
-        er = er * r + kInvFact[k];
+        sum = sum * r + kInvFact1[k];
+    const double em1 = r * sum;       // expm1(r)
     const std::int64_t half = n >> 1; // n >= 0
-    const double y = l < 745.2 ? er * power_of_two(-half) * power_of_two(half - n) : 0.0;
+    // exp(-l), scaled in two steps (2^-n alone underflows for n > 1074).
+    const double y = l < 745.2 ? (1.0 + em1) * power_of_two(-half) * power_of_two(half - n) : 0.0;
     const double u = 1.0 - y; // log1p(-y) = log(u) + ((1 - u) - y) / u
-    const bool near = l <= 0.69314718055994530942;
-    return -(near ? log_unit_plus(q, 0.0, 1.0) : log_unit_plus(u, (1.0 - u) - y, u));
+    // Where n = 0 (l < ln2 / 2), 1 - exp(-l) = -expm1(-l) without cancellation. One logarithm,
+    // of the arguments of either case (a vector loop computes what it selects).
+    const bool near = n == 0;
+    return -log_unit_plus(near ? -em1 : u, near ? 0.0 : (1.0 - u) - y, near ? 1.0 : u);
 }
 
 // Refraction of wIn (pointing away from the surface on the incident side, wIn.m = c > 0) at
