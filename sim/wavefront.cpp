@@ -6,9 +6,9 @@
 //    own random stream) by one step of the top surface's random walk and the scattering it leads
 //    to;
 //  - the rays whose crossing took them into the sheet then go below the surface: a compact list
-//    of them, each position with its own stream, advances by one event per round (a cube corner
-//    on the way down or up, the substrate and its re-emission) until each has gone up to the top
-//    surface again or ended; the list closes up after every round.
+//    of them, each position with its own stream, advances by one step per round (a cube corner
+//    on the way down; or the substrate, its re-emission and the cube corner on the way up) until
+//    each has gone up to the top surface again or ended; the list closes up after every round.
 // A rejection sampler that rejects leaves its ray where it was, to try again in the next round
 // with fresh draws. The rare cases the loops leave out (a ziggurat draw outside its layer's
 // rectangle, a facet seen from below the mean plane, a canted or imperfect cube) mark the ray,
@@ -198,17 +198,21 @@ step(Lanes& L, int i, const Sheet& sheet, std::uint64_t D0, std::uint64_t D1, st
     L.phase[i] = mark ? phase : nextPhase;
 }
 
-// ---- Below the surface: cube corners, the substrate and its re-emission, one event per element
+// ---- Below the surface: cube corners, the substrate and its re-emission, one step per element
 // and round (tracing.h below_surface, the same events and counters), over a compact list of the
-// paths whose light is inside the sheet, each position of the list with its own generator.
+// paths whose light is inside the sheet, each position of the list with its own generator. A step
+// meets one cube corner at most: on the way down, or on the way up through the prisms right after
+// the substrate's re-emission (so that a diffuse visit takes two steps, and every step computes
+// one cube).
 enum Where : std::int64_t {
     kDown = 0,    // a cube corner on the way down, along d
-    kAtSubstrate, // absorbed, or re-emitted
+    kAtSubstrate, // absorbed, or re-emitted (and up through a cube corner)
     kEmitting,    // the re-emission alone (its sampler rejected in the last round)
-    kUpThrough,   // the adjoint cube corner on the way up, along d
     kGoesUp,      // up to the top surface along d
     kEnded        // absorbed or trapped (fate)
 };
+
+constexpr int kBelowDraws = 5; // 64-bit draws per element and round
 
 struct alignas(64) BelowList {
     double dx[kLanes], dy[kLanes], dz[kLanes];
@@ -218,13 +222,13 @@ struct alignas(64) BelowList {
     std::int64_t retro[kLanes], transmitted[kLanes], substrate[kLanes];
     std::int64_t marked[kLanes];
     std::uint64_t s0[kLanes], s1[kLanes], s2[kLanes], s3[kLanes];
-    std::uint64_t draw[3][kLanes];
+    std::uint64_t draw[kBelowDraws][kLanes];
 };
 
 template <bool kVector, class R>
-inline __attribute__((always_inline)) void below_step(BelowList& B, int j, const Sheet& sheet,
-                                                      bool averagedCube, std::uint64_t D0,
-                                                      std::uint64_t D1, std::uint64_t D2, R& rng) {
+inline __attribute__((always_inline)) void
+below_step(BelowList& B, int j, const Sheet& sheet, bool averagedCube, std::uint64_t D0,
+           std::uint64_t D1, std::uint64_t D2, std::uint64_t D3, std::uint64_t D4, R& rng) {
     const std::int64_t where = B.where[j];
     const dvec3 d(B.dx[j], B.dy[j], B.dz[j]);
     std::int64_t visited = B.visited[j], events = B.events[j], fate = B.fate[j];
@@ -239,11 +243,22 @@ inline __attribute__((always_inline)) void below_step(BelowList& B, int j, const
     const bool trapped = counted & (events == kMaxEvents);
     events += counted & !trapped;
 
-    // ---- A cube corner: down along d, or the adjoint up (along -d). The paper's cube at a random
-    // orientation in the loop (computed whatever the sheet, so that nothing in the loop is read
-    // under a condition); any other cube in the completion.
-    const bool down = (where == kDown) & !trapped, upTrace = where == kUpThrough;
-    const dvec3 dd = pick(upTrace, -d, d);
+    // ---- The substrate: absorbed, or re-emitted by Malley's method (a uniform point of the unit
+    // disk by rejection, lifted to the hemisphere)
+    const bool atSubstrate = (where == kAtSubstrate) & !trapped;
+    const bool absorbed = atSubstrate & (Rng::uniform_of(D3) >= kd);
+    const bool emitting = (atSubstrate & !absorbed) | (where == kEmitting);
+    const UniformPair disk = uniform_pair_of(D4); // a point of the square about the disk
+    const double px = 2.0 * disk.u - 1.0, py = 2.0 * disk.v - 1.0;
+    const double r2 = px * px + py * py;
+    const bool emitted = emitting & (r2 < 1.0);
+    const dvec3 up(px, py, std::sqrt(std::max(0.0, 1.0 - r2)));
+
+    // ---- A cube corner: down along d, or the adjoint of the way up through the prisms (along
+    // -up). The paper's cube at a random orientation in the loop (computed whatever the sheet, so
+    // that nothing in the loop is read under a condition); any other cube in the completion.
+    const bool down = (where == kDown) & !trapped, upTrace = emitted & upThrough;
+    const dvec3 dd = pick(upTrace, -up, d);
     double b[3];
     const UniformPair turn = uniform_pair_of(D0); // the turn, the faces' roulette
     averaged_cube_b(dd, turn.u, b);
@@ -257,17 +272,6 @@ inline __attribute__((always_inline)) void below_step(BelowList& B, int j, const
     } else if ((!averagedCube) & (down | upTrace)) {
         outcome = trace_prism(sheet, dd, rng, down ? &exit : nullptr);
     }
-
-    // ---- The substrate: absorbed, or re-emitted by Malley's method (a uniform point of the unit
-    // disk by rejection, lifted to the hemisphere)
-    const bool atSubstrate = (where == kAtSubstrate) & !trapped;
-    const bool absorbed = atSubstrate & (Rng::uniform_of(D0) >= kd);
-    const bool emitting = (atSubstrate & !absorbed) | (where == kEmitting);
-    const UniformPair disk = uniform_pair_of(D1); // a point of the square about the disk
-    const double px = 2.0 * disk.u - 1.0, py = 2.0 * disk.v - 1.0;
-    const double r2 = px * px + py * py;
-    const bool emitted = emitting & (r2 < 1.0);
-    const dvec3 up(px, py, std::sqrt(std::max(0.0, 1.0 - r2)));
 
     // ---- What next
     std::int64_t next = where;
@@ -298,7 +302,7 @@ inline __attribute__((always_inline)) void below_step(BelowList& B, int j, const
         next = kEmitting;
         if (emitted) {
             dNext = up;
-            next = upThrough ? kUpThrough : kGoesUp;
+            next = kGoesUp;
         }
     }
     if (upTrace) {
@@ -309,7 +313,6 @@ inline __attribute__((always_inline)) void below_step(BelowList& B, int j, const
             next = kEnded;
         } else {
             transmitted += outcome == kPrismTransmitted;
-            next = kGoesUp;
         }
     }
 
@@ -339,10 +342,14 @@ inline __attribute__((always_inline)) void round_below(BelowList& B, int n, cons
         const std::uint64_t D0 = Rng::xoshiro256ss(s0, s1, s2, s3);
         const std::uint64_t D1 = Rng::xoshiro256ss(s0, s1, s2, s3);
         const std::uint64_t D2 = Rng::xoshiro256ss(s0, s1, s2, s3);
+        const std::uint64_t D3 = Rng::xoshiro256ss(s0, s1, s2, s3);
+        const std::uint64_t D4 = Rng::xoshiro256ss(s0, s1, s2, s3);
         B.draw[0][j] = D0;
         B.draw[1][j] = D1;
         B.draw[2][j] = D2;
-        below_step<true>(B, j, sheet, averagedCube, D0, D1, D2, none);
+        B.draw[3][j] = D3;
+        B.draw[4][j] = D4;
+        below_step<true>(B, j, sheet, averagedCube, D0, D1, D2, D3, D4, none);
     }
 }
 
@@ -546,7 +553,7 @@ class Chunk {
                 if (!B_.marked[j]) continue;
                 Rng r = rng_of(B_.s0[j], B_.s1[j], B_.s2[j], B_.s3[j]);
                 below_step<false>(B_, j, sheet_, averagedCube_, B_.draw[0][j], B_.draw[1][j],
-                                  B_.draw[2][j], r);
+                                  B_.draw[2][j], B_.draw[3][j], B_.draw[4][j], r);
                 keep_state(r, B_.s0[j], B_.s1[j], B_.s2[j], B_.s3[j]);
             }
         }
