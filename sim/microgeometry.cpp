@@ -509,8 +509,10 @@ int Grid::cell_of(const dvec3& w) const {
             return -1;
         }
     }
-    const int i = std::min(nx - 1, int((x - x0) / (x1 - x0) * nx));
-    const int j = std::min(ny - 1, int((y - y0) / (y1 - y0) * ny));
+    // Cells per unit of each parameter: divisions off the path from w to the cell.
+    const double perX = nx / (x1 - x0), perY = ny / (y1 - y0);
+    const int i = std::min(nx - 1, int((x - x0) * perX));
+    const int j = std::min(ny - 1, int((y - y0) * perY));
     return j * nx + i;
 }
 
