@@ -636,25 +636,29 @@ dvec3 tracing::sample_cone(const dvec3& c, const dvec3& e1, const dvec3& e2, dou
     }
 }
 
-// Flattened: the grids' lookups inlined.
-[[gnu::flatten]] void tracing::tally_path(const Path& p, const std::vector<Grid>& grids, Tally& t) {
+int tracing::tally_counters(const Path& p, Tally& t, bool& single) {
     ++t.fates[size_t(p.fate)];
     t.substrate_hits += std::uint64_t(p.substrate_hits);
     t.face_transmissions += std::uint64_t(p.face_transmissions);
     t.internal_reflections += std::uint64_t(p.internal_reflections);
-    int channel = -1;
-    bool single = false;
+    single = false;
     if (p.fate == kFateSurface) {
-        channel = kSurface;
         single = p.surface_order == 1;
         if (single) ++t.surface_single;
-    } else if (p.fate == kFateRetro) {
-        channel = kRetro;
+        return kSurface;
+    }
+    if (p.fate == kFateRetro) {
         if (p.retroreflections == 1 && p.internal_reflections == 0) ++t.retro_primary;
         if (p.retroreflections > 1) ++t.retro_multiple;
-    } else if (p.fate == kFateDiffuse) {
-        channel = kDiffuse;
+        return kRetro;
     }
+    return p.fate == kFateDiffuse ? kDiffuse : -1;
+}
+
+// Flattened: the grids' lookups inlined.
+[[gnu::flatten]] void tracing::tally_path(const Path& p, const std::vector<Grid>& grids, Tally& t) {
+    bool single;
+    const int channel = tally_counters(p, t, single);
     if (channel < 0) return;
     for (size_t g = 0; g < grids.size(); ++g) {
         const int cell = grids[g].cell_of(p.wo);

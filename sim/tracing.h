@@ -118,6 +118,48 @@ inline double depth_flip(double l) {
     return -log_unit_plus(near ? -em1 : u, near ? 0.0 : (1.0 - u) - y, near ? 1.0 : u);
 }
 
+// ---- Arctangents, for the tally's vectorised loops ---------------------------------------------
+// atan(k / 8), k = 0 .. 8, rounded from 50 digits (at namespace scope: read by a gather in
+// vector loops).
+inline constexpr double kAtanEighths[9] = {0.0,
+                                           0.12435499454676143503,
+                                           0.24497866312686415417,
+                                           0.35877067027057222040,
+                                           0.46364760900080611621,
+                                           0.55859931534356243597,
+                                           0.64350110879328438680,
+                                           0.71882999962162450542,
+                                           0.78539816339744830962};
+
+// atan(z) for |z| <= 1 with the arithmetic operations alone: atan(|z|) = atan(c) + atan(t) with
+// c = k / 8 the nearest eighth of |z| and t = (|z| - c) / (1 + |z| c), |t| <= 1/16, atan(t) by
+// its series to t^15 / 15 (the next term below 1e-19 |t|), atan(c) from the table. Within
+// two ulps of libm's atan (tests/sim/test_wavefront.cpp).
+inline double atan_unit(double z) {
+    const double a = std::abs(z);
+    const std::int64_t k = std::int64_t(a * 8.0 + 0.5); // 64 bits wide: a gather's index
+    const double c = double(k) * 0.125;
+    const double t = (a - c) / (1.0 + a * c), t2 = t * t;
+    double p = -1.0 / 15; // sum (-1)^m t^2m / (2m + 1), m <= 7
+#pragma GCC unroll 32
+    for (int m = 6; m >= 0; --m)
+        p = p * t2 + (m % 2 == 0 ? 1.0 : -1.0) / (2 * m + 1);
+    const double r = kAtanEighths[k] + t * p;
+    return z < 0 ? -r : r;
+}
+
+// atan2(y, x) in [-pi, pi] by atan_unit of the smaller magnitude over the larger (0 where both
+// are 0); within three ulps of libm's atan2 (tests/sim/test_wavefront.cpp).
+inline double atan2_of(double y, double x) {
+    const double ay = std::abs(y), ax = std::abs(x);
+    const bool steep = ay > ax;
+    const double big = steep ? ay : ax;
+    const double r0 = atan_unit((steep ? ax : ay) / (big > 0 ? big : 1.0)); // [0, pi/4]
+    const double r1 = steep ? 0.5 * kPi - r0 : r0;                          // [0, pi/2]
+    const double r = x < 0 ? kPi - r1 : r1;
+    return y < 0 ? -r : r;
+}
+
 // Refraction of wIn (pointing away from the surface on the incident side, wIn.m = c > 0) at
 // the microfacet m into the medium of relative index e = n_t / n_i, given as 1 / e (no total
 // internal reflection: the Fresnel choice has already excluded it).
@@ -298,6 +340,14 @@ bool after_crossing(const Sheet& sheet, const Crossing& c, bool upward, bool& vi
 
 // One path in a tally: its fate and counters and, for an exit, its cell in each grid.
 void tally_path(const Path& p, const std::vector<Grid>& grids, Tally& t);
+// The cells of grid g (Grid::cell_of) of n directions (wx, wy, wz)[k] into cell[k], by a
+// vectorised loop (sim/wavefront.cpp) for the instruction set `level` (the same cells from every
+// one), the arctangents by atan_unit and atan2_of.
+void grid_cells(const Grid& g, const double* wx, const double* wy, const double* wz, int n,
+                std::int64_t* cell, SimdLevel level);
+// tally_path's part without the grids: the path's fate and counters; returns the channel of an
+// exit (single: a surface exit after one scattering event), -1 for a path that ended inside.
+int tally_counters(const Path& p, Tally& t, bool& single);
 
 // Slope x of a visible normal of the standard Beckmann surface seen from polar angle theta in
 // (0, pi) (cosT, sinT), by inversion of its CDF at u in (0, 1) (microgeometry.cpp).

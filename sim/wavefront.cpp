@@ -13,14 +13,16 @@
 // with fresh draws. The rare cases the loops leave out (a ziggurat draw outside its layer's
 // rectangle, a facet seen from below the mean plane, a canted or imperfect cube) mark the ray,
 // which the same step function, compiled for one ray, then completes with the same draws and the
-// stream's generator. A finished path is tallied and its lane takes the chunk's next ray; at the
-// chunk's end the lanes still in use close up. The result depends on the seed and the chunk
+// stream's generator. A finished path is tallied (its exit direction waits with others for a
+// vectorised loop per grid that finds their cells) and its lane takes the chunk's next ray; at
+// the chunk's end the lanes still in use close up. The result depends on the seed and the chunk
 // alone, and the rounds use IEEE arithmetic without contraction or library calls: the same bits
 // whatever instruction set runs them.
 #include "tracing.h"
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "batch.h"
 #include "cube_corner.h"
@@ -376,10 +378,103 @@ inline __attribute__((always_inline)) void round_of_lanes(Lanes& L, int n, const
     }
 }
 
+// ---- The tally's cells: each grid's cell of many exit directions in one vectorised loop
+// (Grid::cell_of's arithmetic, its arctangents those of tracing.h), -1 outside the grid; cones
+// are left to Grid::cell_of (kNoCell).
+constexpr std::int64_t kNoCell = -2;
+
+struct CellGrid {
+    std::int64_t kind;
+    dvec3 c, e1, e2;
+    double x0, x1, y0, y1;
+    double perX, perY;       // cells per unit of each parameter
+    double xLastIn, yLastIn; // the largest parameters inside (the disk's outer edge)
+    std::int64_t nx, ny;
+};
+
+CellGrid cell_grid(const Grid& g) {
+    return {g.kind,
+            g.c,
+            g.e1,
+            g.e2,
+            g.x0,
+            g.x1,
+            g.y0,
+            g.y1,
+            g.nx / (g.x1 - g.x0),
+            g.ny / (g.y1 - g.y0),
+            std::nextafter(g.x1, g.x0),
+            std::nextafter(g.y1, g.y0),
+            g.nx,
+            g.ny};
+}
+
+// The cell of parameters (x, y) where `inside`, else -1; the disk's outer edge (x or y = 1)
+// belongs to its last cells.
+inline std::int64_t cell_at(const CellGrid& g, double x, double y, bool inside, bool disk) {
+    const bool inOpen = (x >= g.x0) & (x < g.x1) & (y >= g.y0) & (y < g.y1);
+    const bool onEdge = disk & !inOpen & (x >= g.x0) & (x <= g.x1) & (y >= g.y0) & (y <= g.y1);
+    const bool in = inside & (inOpen | onEdge);
+    const double xLast = g.xLastIn, yLast = g.yLastIn; // read unconditionally (vector loops)
+    const double xc = onEdge & (x > xLast) ? xLast : x, yc = onEdge & (y > yLast) ? yLast : y;
+    const std::int64_t i = std::min(g.nx - 1, std::int64_t(in ? (xc - g.x0) * g.perX : 0.0));
+    const std::int64_t j = std::min(g.ny - 1, std::int64_t(in ? (yc - g.y0) * g.perY : 0.0));
+    return in ? j * g.nx + i : -1;
+}
+
+inline __attribute__((always_inline)) void cells_of(const CellGrid& g, const double* wx,
+                                                    const double* wy, const double* wz, int n,
+                                                    std::int64_t* cell) {
+    switch (g.kind) {
+    case Grid::kGnomonic:
+#pragma omp simd
+        for (int k = 0; k < n; ++k) {
+            const dvec3 w(wx[k], wy[k], wz[k]);
+            const double cp = glm::dot(w, g.c);
+            const double q = cp > 0 ? cp : 1.0;
+            cell[k] = cell_at(g, glm::dot(w, g.e1) / q, glm::dot(w, g.e2) / q, cp > 0, false);
+        }
+        break;
+    case Grid::kDisk:
+#pragma omp simd
+        for (int k = 0; k < n; ++k) {
+            // The concentric map's inverse (microgeometry.cpp disk_to_square): the sector by
+            // comparison, its angle by the arctangent of a ratio in [-1, 1].
+            const double x = wx[k], y = wy[k];
+            const double r = std::sqrt(x * x + y * y);
+            const bool wide = std::abs(x) > std::abs(y);
+            const double num = wide ? y : x, den = wide ? x : y;
+            const double t = r * atan_unit(num / (r > 0 ? den : 1.0)) * (4 / kPi);
+            const bool positive = den > 0;
+            const double u = wide ? r : t, v = wide ? t : r;
+            const double sx = r > 0 ? (positive ? u : -u) : 0.0;
+            const double sy = r > 0 ? (positive ? v : -v) : 0.0;
+            cell[k] = cell_at(g, sx, sy, wz[k] >= 0, true);
+        }
+        break;
+    case Grid::kStrip:
+#pragma omp simd
+        for (int k = 0; k < n; ++k) {
+            const dvec3 w(wx[k], wy[k], wz[k]);
+            const double t = glm::dot(w, g.e2);
+            const bool out = ((g.y1 >= 0) & (t > g.y1)) | ((g.y0 <= 0) & (t < g.y0));
+            const double tc = std::clamp(t, -1.0, 1.0);
+            const double x = atan2_of(glm::dot(w, g.e1), glm::dot(w, g.c));
+            const double y = atan2_of(tc, std::sqrt(std::max(0.0, 1.0 - tc * tc))); // asin
+            cell[k] = cell_at(g, x, y, !out, false);
+        }
+        break;
+    default:
+        for (int k = 0; k < n; ++k)
+            cell[k] = kNoCell;
+    }
+}
+
 // The two rounds of one instruction set.
 struct Rounds {
     void (*surface)(Lanes&, int, const Sheet&);
     void (*below)(BelowList&, int, const Sheet&, bool);
+    void (*cells)(const CellGrid&, const double*, const double*, const double*, int, std::int64_t*);
 };
 #define RP_SIM_ROUNDS(NAME, ...)                                                                   \
     __VA_ARGS__ __attribute__((flatten, noinline)) void NAME##_surface(Lanes& L, int n,            \
@@ -390,7 +485,12 @@ struct Rounds {
         BelowList& B, int n, const Sheet& sheet, bool averagedCube) {                              \
         round_below(B, n, sheet, averagedCube);                                                    \
     }                                                                                              \
-    const Rounds NAME = {NAME##_surface, NAME##_below};
+    __VA_ARGS__ __attribute__((flatten, noinline)) void NAME##_cells(                              \
+        const CellGrid& g, const double* wx, const double* wy, const double* wz, int n,            \
+        std::int64_t* cell) {                                                                      \
+        cells_of(g, wx, wy, wz, n, cell);                                                          \
+    }                                                                                              \
+    const Rounds NAME = {NAME##_surface, NAME##_below, NAME##_cells};
 RP_SIM_ROUNDS(rounds_baseline, )
 RP_SIM_ROUNDS(rounds_avx2, RP_TARGET_AVX2)
 RP_SIM_ROUNDS(rounds_avx512, RP_TARGET_AVX512)
@@ -405,6 +505,14 @@ const Rounds& rounds(SimdLevel level) {
     default:
         return rounds_baseline;
     }
+}
+
+// The cells of grid g of n directions (Grid::cell_of), by the vectorised loop of `run`.
+void grid_cells(const Grid& g, const double* wx, const double* wy, const double* wz, int n,
+                std::int64_t* cell, const Rounds& run) {
+    run.cells(cell_grid(g), wx, wy, wz, n, cell);
+    for (int k = 0; k < n; ++k)
+        if (cell[k] == kNoCell) cell[k] = g.cell_of(dvec3(wx[k], wy[k], wz[k]));
 }
 
 // A generator from a state held in four words, and back.
@@ -460,7 +568,7 @@ class Chunk {
             // Finished paths are tallied, and their lanes take the next rays.
             for (int k = 0; k < nd_; ++k) {
                 const int i = done_[k];
-                tally_path(L_.path[i], grids_, t_);
+                tally(L_.path[i]);
                 if (started_ < n_)
                     start(i);
                 else
@@ -468,10 +576,41 @@ class Chunk {
             }
             if (started_ == n_ && nd_ > 0) close_up_lanes();
         }
+        tally_exits();
         t_.rays += n_;
     }
 
   private:
+    // A finished path's fate and counters, and its exit (if any) among those whose cells the
+    // next tally_exits finds.
+    void tally(const Path& p) {
+        bool single;
+        const int channel = tally_counters(p, t_, single);
+        if (channel < 0) return;
+        if (ne_ == kLanes) tally_exits();
+        exitX_[ne_] = p.wo.x;
+        exitY_[ne_] = p.wo.y;
+        exitZ_[ne_] = p.wo.z;
+        channel_[ne_] = channel;
+        single_[ne_] = single;
+        ++ne_;
+    }
+
+    // The pending exits in each grid's cells (tally_path's counts).
+    void tally_exits() {
+        for (size_t g = 0; g < grids_.size(); ++g) {
+            grid_cells(grids_[g], exitX_, exitY_, exitZ_, ne_, cell_, run_);
+            std::uint64_t* counts = t_.counts[g].data();
+            for (int k = 0; k < ne_; ++k) {
+                const std::int64_t cell = cell_[k];
+                if (cell < 0) continue;
+                counts[size_t(cell) * kChannels + size_t(channel_[k])] += 1;
+                if (single_[k]) counts[size_t(cell) * kChannels + kSurfaceSingle] += 1;
+            }
+        }
+        ne_ = 0;
+    }
+
     // A lane takes the chunk's next ray.
     void start(int i) {
         ++started_;
@@ -662,9 +801,20 @@ class Chunk {
     int nb_ = 0;    // elements in the list below the surface
     int nd_ = 0;    // finished paths of this round
     int attention_[kLanes], done_[kLanes], finished_[kLanes], hole_[kLanes], mover_[kLanes];
+    // Exits waiting for their cells.
+    int ne_ = 0;
+    alignas(64) double exitX_[kLanes], exitY_[kLanes], exitZ_[kLanes];
+    alignas(64) std::int64_t cell_[kLanes];
+    int channel_[kLanes];
+    bool single_[kLanes];
 };
 
 } // namespace
+
+void grid_cells(const Grid& g, const double* wx, const double* wy, const double* wz, int n,
+                std::int64_t* cell, SimdLevel level) {
+    grid_cells(g, wx, wy, wz, n, cell, rounds(level));
+}
 
 void trace_chunk(const Sheet& sheet, const dvec3& wi, const dvec3& e1, const dvec3& e2, double cone,
                  const std::vector<Grid>& grids, std::uint64_t seed, std::uint64_t chunk,

@@ -219,3 +219,97 @@ TEST_CASE("The walk's depth from the other side and the faces' Fresnel terms are
                 "terms within %.2e of the core's\n",
                 worst, worstF);
 }
+
+TEST_CASE("The tally's arctangents are libm's to the last bits", "[sim]") {
+    // atan_unit over 1e6 points of [-1, 1] (and 0, +-1, tiny and subnormal values), atan2_of
+    // over 1e6 pairs of every sign and ratio (and zeros): the largest difference from libm's
+    // atan and atan2, in units of the result's last place. libm's are within 1 ulp of the exact
+    // values; atan_unit adds the table's and the series' roundings (2 ulps allowed), atan2_of
+    // one more rounding for its reflections pi/2 - r and pi - r (3 ulps allowed).
+    retroprism::Rng rng(11, 0);
+    const auto ulps = [](double got, double want) {
+        if (got == want) return 0.0;
+        const double ulp = std::nextafter(std::abs(want), HUGE_VAL) - std::abs(want);
+        return std::abs(got - want) / ulp;
+    };
+    double worst = 0, worst2 = 0;
+    std::vector<double> zs = {0.0, -0.0, 1.0, -1.0, 1e-300, -4e-320, 0.0625, 0.1875, 0.5};
+    for (int k = 0; k < 1000000; ++k)
+        zs.push_back(2.0 * rng.uniform() - 1.0);
+    for (double z : zs)
+        worst = std::max(worst, ulps(sim::tracing::atan_unit(z), std::atan(z)));
+    for (int k = 0; k < 1000000; ++k) {
+        const double y = (2.0 * rng.uniform() - 1.0) * std::pow(10.0, 4.0 * rng.uniform() - 2.0);
+        const double x = (2.0 * rng.uniform() - 1.0) * std::pow(10.0, 4.0 * rng.uniform() - 2.0);
+        worst2 = std::max(worst2, ulps(sim::tracing::atan2_of(y, x), std::atan2(y, x)));
+    }
+    for (double y : {0.0, 1.0, -1.0})
+        for (double x : {0.0, 1.0, -1.0})
+            if (!(y == 0 && x == 0))
+                worst2 = std::max(worst2, ulps(sim::tracing::atan2_of(y, x), std::atan2(y, x)));
+    CHECK(sim::tracing::atan2_of(0.0, 0.0) == 0.0);
+    CHECK(worst <= 2.0);
+    CHECK(worst2 <= 3.0);
+    std::printf("MEASURED: atan_unit within %.2f ulp of libm's atan, atan2_of within %.2f ulp of "
+                "atan2\n",
+                worst, worst2);
+}
+
+TEST_CASE("The wavefront's tally finds Grid::cell_of's cells on every instruction set", "[sim]") {
+    // The standard grids at 30 and 75 degrees and a cone: 4e5 directions each (uniform over the
+    // sphere, and about the retro and mirror directions within 3 slopes of their lobes) through
+    // grid_cells and through Grid::cell_of. They differ only where a parameter falls within an
+    // ulp or two of a cell's edge (the arctangents' last bits), some 1e-13 of directions: none
+    // expected.
+    retroprism::Rng rng(12, 0);
+    const sim::Sheet sheet =
+        sim::sheet_from_params(params_of(0.1, f64::RP_PRISM_TIR, f64::RP_ERA_AVERAGED, 0, 0, 0.8));
+    long compared = 0, differ = 0, inside = 0;
+    for (double theta : {30.0, 75.0}) {
+        const dvec3 wi = dir_deg(theta, 20);
+        std::vector<sim::Grid> grids = sim::standard_grids(sheet, wi);
+        grids.push_back(sim::cone_grid("cone", wi, 0.05));
+        const dvec3 mirror(-wi.x, -wi.y, wi.z);
+        const int n = 400000;
+        std::vector<double> wx(n), wy(n), wz(n);
+        for (int k = 0; k < n; ++k) {
+            dvec3 w;
+            if (k % 3 == 0) { // uniform over the sphere
+                const double z = 2.0 * rng.uniform() - 1.0,
+                             phi = 2.0 * 3.14159265358979 * rng.uniform();
+                const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+                w = dvec3(r * std::cos(phi), r * std::sin(phi), z);
+            } else { // about wi or the mirror direction
+                const dvec3 c = k % 3 == 1 ? wi : mirror;
+                w = glm::normalize(c + 0.3 * dvec3(2.0 * rng.uniform() - 1.0,
+                                                   2.0 * rng.uniform() - 1.0,
+                                                   2.0 * rng.uniform() - 1.0));
+            }
+            wx[size_t(k)] = w.x;
+            wy[size_t(k)] = w.y;
+            wz[size_t(k)] = w.z;
+        }
+        for (const sim::Grid& g : grids) {
+            std::vector<int> want(size_t(n), 0);
+            for (int k = 0; k < n; ++k)
+                want[size_t(k)] = g.cell_of(dvec3(wx[size_t(k)], wy[size_t(k)], wz[size_t(k)]));
+            for (retroprism::SimdLevel level :
+                 {retroprism::SimdLevel::Baseline, retroprism::SimdLevel::Sse42,
+                  retroprism::SimdLevel::Avx2, retroprism::SimdLevel::Avx512}) {
+                if (level > retroprism::simd_level_supported()) continue;
+                std::vector<std::int64_t> got(size_t(n), 0);
+                sim::tracing::grid_cells(g, wx.data(), wy.data(), wz.data(), n, got.data(), level);
+                for (int k = 0; k < n; ++k) {
+                    ++compared;
+                    inside += want[size_t(k)] >= 0;
+                    differ += got[size_t(k)] != want[size_t(k)];
+                }
+            }
+        }
+    }
+    CHECK(differ == 0);
+    CHECK(inside > compared / 10); // the directions reach into every grid
+    std::printf("MEASURED: grid_cells against Grid::cell_of: %ld of %ld cells differ (%ld inside "
+                "a grid)\n",
+                differ, compared, inside);
+}
