@@ -515,6 +515,18 @@ void grid_cells(const Grid& g, const double* wx, const double* wy, const double*
         if (cell[k] == kNoCell) cell[k] = g.cell_of(dvec3(wx[k], wy[k], wz[k]));
 }
 
+// A new path's counters, field by field (an assignment of Path() goes through a temporary on the
+// stack whose 16-byte reloads wait for its 8-byte stores).
+inline void reset_path(Path& p) {
+    p.fate = kFateTrapped;
+    p.wo = dvec3(0.0);
+    p.surface_order = 0;
+    p.retroreflections = 0;
+    p.internal_reflections = 0;
+    p.substrate_hits = 0;
+    p.face_transmissions = 0;
+}
+
 // A generator from a state held in four words, and back.
 Rng rng_of(const std::uint64_t& s0, const std::uint64_t& s1, const std::uint64_t& s2,
            const std::uint64_t& s3) {
@@ -622,7 +634,7 @@ class Chunk {
         L_.outside[i] = L_.depthOutside[i] = 1;
         L_.order[i] = L_.upward[i] = 0;
         L_.phase[i] = kWalk;
-        L_.path[i] = Path();
+        reset_path(L_.path[i]);
         L_.visited[i] = false;
         L_.events[i] = 0;
     }
