@@ -613,11 +613,18 @@ class Chunk {
         for (size_t g = 0; g < grids_.size(); ++g) {
             grid_cells(grids_[g], exitX_, exitY_, exitZ_, ne_, cell_, run_);
             std::uint64_t* counts = t_.counts[g].data();
+            // The exits inside the grid, found without a branch per exit (inside or not is a
+            // coin toss to a branch predictor), then counted.
+            int inside = 0;
             for (int k = 0; k < ne_; ++k) {
-                const std::int64_t cell = cell_[k];
-                if (cell < 0) continue;
-                counts[size_t(cell) * kChannels + size_t(channel_[k])] += 1;
-                if (single_[k]) counts[size_t(cell) * kChannels + kSurfaceSingle] += 1;
+                inside_[inside] = k;
+                inside += int(cell_[k] >= 0);
+            }
+            for (int q = 0; q < inside; ++q) {
+                const int k = inside_[q];
+                const std::size_t at = std::size_t(cell_[k]) * kChannels;
+                counts[at + std::size_t(channel_[k])] += 1;
+                if (single_[k]) counts[at + kSurfaceSingle] += 1;
             }
         }
         ne_ = 0;
@@ -639,15 +646,17 @@ class Chunk {
         L_.events[i] = 0;
     }
 
-    // The lanes the surface round left to this loop (found without a branch per lane): the
-    // marked ones, completed one lane at a time with their own generators; finished crossings:
-    // exits, or the light goes below the surface.
+    // The lanes the surface round left to this loop: the marked ones, completed one lane at a
+    // time with their own generators; finished crossings: exits, or the light goes below the
+    // surface. Lists found without a branch per lane (whether a crossing is over, and how, is a
+    // coin toss to a branch predictor), each then handled in order.
     void after_surface_round() {
         int na = 0;
         for (int i = 0; i < lanes_; ++i) {
             attention_[na] = i;
             na += int((L_.phase[i] >= kLeft) | (L_.marked[i] != 0));
         }
+        int nx = 0, nb = 0;
         for (int k = 0; k < na; ++k) {
             const int i = attention_[k];
             if (L_.marked[i]) {
@@ -657,12 +666,23 @@ class Chunk {
                 keep_state(r, L_.s0[i], L_.s1[i], L_.s2[i], L_.s3[i]);
                 L_.marked[i] = 0;
             }
-            if (L_.phase[i] == kDone) { // trapped in the crossing (Path's fate as it starts)
-                done_[nd_++] = i;
-            } else if (L_.phase[i] == kLeft) {
-                leave_crossing(i);
-            }
+            // Done (trapped in the crossing: Path's fate as it starts) or exiting; going below.
+            const std::int64_t phase = L_.phase[i];
+            const bool out = L_.outside[i] != 0;
+            exiting_[nx] = i;
+            nx += int((phase == kDone) | ((phase == kLeft) & out));
+            going_[nb] = i;
+            nb += int((phase == kLeft) & !out);
         }
+        for (int k = 0; k < nx; ++k) {
+            const int i = exiting_[k];
+            if (L_.phase[i] == kDone)
+                done_[nd_++] = i;
+            else
+                leave_crossing(i);
+        }
+        for (int k = 0; k < nb; ++k)
+            leave_crossing(going_[k]);
     }
 
     // The exit of lane i's path, or its light into the list below (leaves_sheet).
@@ -812,6 +832,7 @@ class Chunk {
     int lanes_ = 0; // the lanes in use, [0, lanes_): all of them until the rays run out
     int nb_ = 0;    // elements in the list below the surface
     int nd_ = 0;    // finished paths of this round
+    int exiting_[kLanes], going_[kLanes], inside_[kLanes]; // lists of one loop each
     int attention_[kLanes], done_[kLanes], finished_[kLanes], hole_[kLanes], mover_[kLanes];
     // Exits waiting for their cells.
     int ne_ = 0;
