@@ -1,8 +1,6 @@
 // variates.cpp: the tables of sim/variates.h, computed at start-up.
 #include "variates.h"
 
-#include <vector>
-
 #include "prism_core.h"
 
 namespace retroprism {
@@ -15,37 +13,24 @@ constexpr long double kPiL = 3.141592653589793238462643383279502884L;
 
 // The ziggurat of density f (decreasing on [0, inf), f(0) = 1) with kZigguratLayers layers of
 // equal area v (Marsaglia & Tsang 2000, section 2): from x[1] = R and v = R f(R) + tail(R) (the
-// base layer), x[i + 1] = f^-1(f(x[i]) + v / x[i]); R is the root of the top layer's closure,
-// x[N - 1] (1 - f(x[N - 1])) = v, found by bisection in long double (a larger R makes the layers
-// thinner and the top one wider).
+// base layer), x[i + 1] = f^-1(f(x[i]) + v / x[i]), in long double. R is the root of the top
+// layer's closure, x[N - 1] (1 - f(x[N - 1])) = v, found by bisection in long double and written
+// below to 21 digits, so that start-up builds each table in one pass; tests/sim/test_variates.cpp
+// finds R again (and Marsaglia & Tsang's for 256 layers) and checks every layer's area.
 template <class F, class FInverse, class Tail>
-Ziggurat make_ziggurat(F f, FInverse fInverse, Tail tail) {
+Ziggurat make_ziggurat(long double r, F f, FInverse fInverse, Tail tail) {
     constexpr int n = kZigguratLayers;
-    // The top layer's area less v (< 0 where the layers reach f = 1 early: R too small).
-    const auto closure = [&](long double r, long double* x) {
-        const long double v = r * f(r) + tail(r);
-        x[1] = r;
-        for (int i = 1; i < n - 1; ++i) {
-            const long double y = f(x[i]) + v / x[i];
-            if (!(y < 1)) return -v;
-            x[i + 1] = fInverse(y);
-        }
-        return x[n - 1] * (1 - f(x[n - 1])) - v;
-    };
-    std::vector<long double> x(size_t(n) + 1);
-    long double lo = 1, hi = 20;
-    for (int k = 0; k < 200 && hi - lo > 1e-17L * hi; ++k) {
-        const long double mid = 0.5L * (lo + hi);
-        (closure(mid, x.data()) < 0 ? lo : hi) = mid;
-    }
-    const long double r = hi, v = r * f(r) + tail(r);
-    closure(r, x.data());
+    const long double v = r * f(r) + tail(r);
     Ziggurat z{};
     z.r = double(r);
     z.v = double(v);
     z.x[0] = double(v / f(r));
-    for (int i = 1; i < n; ++i)
-        z.x[i] = double(x[size_t(i)]);
+    z.x[1] = double(r);
+    long double x = r;
+    for (int i = 1; i < n - 1; ++i) {
+        x = fInverse(f(x) + v / x);
+        z.x[i + 1] = double(x);
+    }
     z.x[n] = 0.0;
     for (int i = 0; i <= n; ++i)
         z.f[i] = double(f(z.x[i]));
@@ -55,15 +40,15 @@ Ziggurat make_ziggurat(F f, FInverse fInverse, Tail tail) {
 
 Ziggurat make_normal() {
     return make_ziggurat(
-        [](long double x) { return std::exp(-0.5L * x * x); },
+        4.03884984610950454123L, [](long double x) { return std::exp(-0.5L * x * x); },
         [](long double y) { return std::sqrt(-2.0L * std::log(y)); },
         [](long double r) { return std::sqrt(0.5L * kPiL) * std::erfc(r / std::sqrt(2.0L)); });
 }
 
 Ziggurat make_exponential() {
-    return make_ziggurat([](long double x) { return std::exp(-x); },
-                         [](long double y) { return -std::log(y); },
-                         [](long double r) { return std::exp(-r); });
+    return make_ziggurat(
+        9.25616454426554368523L, [](long double x) { return std::exp(-x); },
+        [](long double y) { return -std::log(y); }, [](long double r) { return std::exp(-r); });
 }
 
 // g(a) = 2 a Lambda(a), Lambda the core's; g(0) = 1 / sqrt(pi).

@@ -41,7 +41,51 @@ double chi2_p(const std::function<double(retroprism::Rng&)>& draw,
     return rptest::chi2_sf(chi2, double(count.size() - 1));
 }
 
+// The tail start R of the n-layer ziggurat of density f (decreasing, f(0) = 1): the root of the
+// top layer's closure x[n - 1] (1 - f(x[n - 1])) = v, v = R f(R) + tail(R), by bisection in long
+// double (a larger R makes the layers thinner and the top one wider; too small an R reaches
+// f = 1 before the top).
+template <class F, class FInverse, class Tail>
+long double ziggurat_r(int n, F f, FInverse fInverse, Tail tail) {
+    const auto closure = [&](long double r) {
+        const long double v = r * f(r) + tail(r);
+        long double x = r;
+        for (int i = 1; i < n - 1; ++i) {
+            const long double y = f(x) + v / x;
+            if (!(y < 1)) return -v;
+            x = fInverse(y);
+        }
+        return x * (1 - f(x)) - v;
+    };
+    long double lo = 1, hi = 20;
+    while (hi - lo > 1e-17L * hi)
+        (closure(0.5L * (lo + hi)) < 0 ? lo : hi) = 0.5L * (lo + hi);
+    return hi;
+}
+
 } // namespace
+
+TEST_CASE("The ziggurats' tail starts are the roots of their top layers' closure", "[sim]") {
+    // sim/variates.cpp writes R for its 1024 layers; the same bisection gives Marsaglia & Tsang's
+    // R for 256 layers (their Table 1), so it checks itself too. Bound: a few ulps of R.
+    const long double pi = 3.141592653589793238462643383279502884L;
+    const auto normal = [](long double x) { return std::exp(-0.5L * x * x); };
+    const auto normalInverse = [](long double y) { return std::sqrt(-2.0L * std::log(y)); };
+    const auto normalTail = [pi](long double r) {
+        return std::sqrt(0.5L * pi) * std::erfc(r / std::sqrt(2.0L));
+    };
+    const auto exponential = [](long double x) { return std::exp(-x); };
+    const auto exponentialInverse = [](long double y) { return -std::log(y); };
+    const auto exponentialTail = [](long double r) { return std::exp(-r); };
+    const auto near = [](long double a, double b) { return std::abs(double(a) / b - 1) < 1e-15; };
+    CHECK(near(ziggurat_r(256, normal, normalInverse, normalTail), 3.6541528853610088));
+    CHECK(near(ziggurat_r(256, exponential, exponentialInverse, exponentialTail),
+               7.69711747013104972));
+    CHECK(near(ziggurat_r(sim::kZigguratLayers, normal, normalInverse, normalTail),
+               sim::kZigguratNormal.r));
+    CHECK(near(ziggurat_r(sim::kZigguratLayers, exponential, exponentialInverse, exponentialTail),
+               sim::kZigguratExponential.r));
+}
 
 TEST_CASE("The ziggurats' layers have equal areas", "[sim]") {
     // Each layer i >= 1 is the rectangle [0, x_i] x [f(x_i), f(x_(i+1))] of area v, the base
