@@ -663,8 +663,7 @@ int tracing::tally_counters(const Path& p, Tally& t, bool& single) {
     for (size_t g = 0; g < grids.size(); ++g) {
         const int cell = grids[g].cell_of(p.wo);
         if (cell < 0) continue;
-        t.counts[g][size_t(cell) * kChannels + size_t(channel)] += 1;
-        if (single) t.counts[g][size_t(cell) * kChannels + kSurfaceSingle] += 1;
+        count_exit(t.counts[g].data(), cell, channel, single);
     }
 }
 

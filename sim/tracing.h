@@ -345,6 +345,13 @@ void tally_path(const Path& p, const std::vector<Grid>& grids, Tally& t);
 // one), the arctangents by atan_unit and atan2_of.
 void grid_cells(const Grid& g, const double* wx, const double* wy, const double* wz, int n,
                 std::int64_t* cell, SimdLevel level);
+// An exit in cell `cell` (>= 0) of a grid's counts: its channel and, for a surface exit after one
+// scattering event, kSurfaceSingle too.
+inline void count_exit(std::uint64_t* counts, std::int64_t cell, int channel, bool single) {
+    const std::size_t at = std::size_t(cell) * kChannels;
+    counts[at + std::size_t(channel)] += 1;
+    if (single) counts[at + kSurfaceSingle] += 1;
+}
 // tally_path's part without the grids: the path's fate and counters; returns the channel of an
 // exit (single: a surface exit after one scattering event), -1 for a path that ended inside.
 int tally_counters(const Path& p, Tally& t, bool& single);

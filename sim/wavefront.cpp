@@ -34,7 +34,7 @@ namespace tracing {
 namespace {
 
 constexpr int kLanes = 256; // rays in flight
-constexpr int kDraws = 5;   // 64-bit draws per lane and round
+constexpr int kDraws = 5;   // 64-bit draws per lane or list position and round (round_draws)
 
 enum Phase : std::int64_t {
     kIdle = 0, // no ray
@@ -214,8 +214,6 @@ enum Where : std::int64_t {
     kEnded        // absorbed or trapped (fate)
 };
 
-constexpr int kBelowDraws = 5; // 64-bit draws per element and round
-
 struct alignas(64) BelowList {
     double dx[kLanes], dy[kLanes], dz[kLanes];
     std::int64_t where[kLanes];
@@ -224,7 +222,7 @@ struct alignas(64) BelowList {
     std::int64_t retro[kLanes], transmitted[kLanes], substrate[kLanes];
     std::int64_t marked[kLanes];
     std::uint64_t s0[kLanes], s1[kLanes], s2[kLanes], s3[kLanes];
-    std::uint64_t draw[kBelowDraws][kLanes];
+    std::uint64_t draw[kDraws][kLanes];
 };
 
 template <bool kVector, class R>
@@ -332,26 +330,37 @@ below_step(BelowList& B, int j, const Sheet& sheet, bool averagedCube, std::uint
     B.substrate[j] = mark ? B.substrate[j] : substrate;
 }
 
+// The five draws of one round for position i of `A` (the lanes or the list below the surface):
+// from its generator, kept for the completion of a marked position.
+struct RoundDraws {
+    std::uint64_t d0, d1, d2, d3, d4;
+};
+template <class A>
+inline __attribute__((always_inline)) RoundDraws round_draws(A& a, int i) {
+    std::uint64_t& s0 = a.s0[i];
+    std::uint64_t& s1 = a.s1[i];
+    std::uint64_t& s2 = a.s2[i];
+    std::uint64_t& s3 = a.s3[i];
+    const std::uint64_t d0 = Rng::xoshiro256ss(s0, s1, s2, s3);
+    const std::uint64_t d1 = Rng::xoshiro256ss(s0, s1, s2, s3);
+    const std::uint64_t d2 = Rng::xoshiro256ss(s0, s1, s2, s3);
+    const std::uint64_t d3 = Rng::xoshiro256ss(s0, s1, s2, s3);
+    const std::uint64_t d4 = Rng::xoshiro256ss(s0, s1, s2, s3);
+    a.draw[0][i] = d0;
+    a.draw[1][i] = d1;
+    a.draw[2][i] = d2;
+    a.draw[3][i] = d3;
+    a.draw[4][i] = d4;
+    return {d0, d1, d2, d3, d4};
+}
+
 inline __attribute__((always_inline)) void round_below(BelowList& B, int n, const Sheet& sheet,
                                                        bool averagedCube) {
     NoRng none;
 #pragma omp simd
     for (int j = 0; j < n; ++j) {
-        std::uint64_t& s0 = B.s0[j];
-        std::uint64_t& s1 = B.s1[j];
-        std::uint64_t& s2 = B.s2[j];
-        std::uint64_t& s3 = B.s3[j];
-        const std::uint64_t D0 = Rng::xoshiro256ss(s0, s1, s2, s3);
-        const std::uint64_t D1 = Rng::xoshiro256ss(s0, s1, s2, s3);
-        const std::uint64_t D2 = Rng::xoshiro256ss(s0, s1, s2, s3);
-        const std::uint64_t D3 = Rng::xoshiro256ss(s0, s1, s2, s3);
-        const std::uint64_t D4 = Rng::xoshiro256ss(s0, s1, s2, s3);
-        B.draw[0][j] = D0;
-        B.draw[1][j] = D1;
-        B.draw[2][j] = D2;
-        B.draw[3][j] = D3;
-        B.draw[4][j] = D4;
-        below_step<true>(B, j, sheet, averagedCube, D0, D1, D2, D3, D4, none);
+        const RoundDraws D = round_draws(B, j);
+        below_step<true>(B, j, sheet, averagedCube, D.d0, D.d1, D.d2, D.d3, D.d4, none);
     }
 }
 
@@ -360,21 +369,8 @@ inline __attribute__((always_inline)) void round_of_lanes(Lanes& L, int n, const
     NoRng none;
 #pragma omp simd
     for (int i = 0; i < n; ++i) {
-        std::uint64_t& s0 = L.s0[i];
-        std::uint64_t& s1 = L.s1[i];
-        std::uint64_t& s2 = L.s2[i];
-        std::uint64_t& s3 = L.s3[i];
-        const std::uint64_t D0 = Rng::xoshiro256ss(s0, s1, s2, s3);
-        const std::uint64_t D1 = Rng::xoshiro256ss(s0, s1, s2, s3);
-        const std::uint64_t D2 = Rng::xoshiro256ss(s0, s1, s2, s3);
-        const std::uint64_t D3 = Rng::xoshiro256ss(s0, s1, s2, s3);
-        const std::uint64_t D4 = Rng::xoshiro256ss(s0, s1, s2, s3);
-        L.draw[0][i] = D0;
-        L.draw[1][i] = D1;
-        L.draw[2][i] = D2;
-        L.draw[3][i] = D3;
-        L.draw[4][i] = D4;
-        step<true>(L, i, sheet, D0, D1, D2, D3, D4, none);
+        const RoundDraws D = round_draws(L, i);
+        step<true>(L, i, sheet, D.d0, D.d1, D.d2, D.d3, D.d4, none);
     }
 }
 
@@ -622,9 +618,7 @@ class Chunk {
             }
             for (int q = 0; q < inside; ++q) {
                 const int k = inside_[q];
-                const std::size_t at = std::size_t(cell_[k]) * kChannels;
-                counts[at + std::size_t(channel_[k])] += 1;
-                if (single_[k]) counts[at + kSurfaceSingle] += 1;
+                count_exit(counts, cell_[k], channel_[k], single_[k]);
             }
         }
         ne_ = 0;
