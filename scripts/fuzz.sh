@@ -29,6 +29,13 @@ if command -v llvm-symbolizer >/dev/null 2>&1; then
   export ASAN_SYMBOLIZER_PATH="$(command -v llvm-symbolizer)"
 fi
 
+# One run of target $1 for $2 seconds, its log in $3 (appended); returns libFuzzer's exit code.
+fuzz_run() {
+  local t="$1" secs="$2" log="$3"
+  "$build/fuzz_$t" -max_total_time="$secs" -print_final_stats=1 -timeout=25 -rss_limit_mb=2048 \
+    -artifact_prefix="$build/artifacts/$t/" "$build/corpus/$t" "$root/fuzz/corpus/$t" >>"$log" 2>&1
+}
+
 status=0
 summary=""
 for t in $targets; do
@@ -36,17 +43,51 @@ for t in $targets; do
   artifacts="$build/artifacts/$t"
   log="$build/fuzz_$t.log"
   mkdir -p "$corpus" "$artifacts"
+  : >"$log"
   echo "fuzz: $t for ${seconds} s"
-  set +e
-  "$build/fuzz_$t" -max_total_time="$seconds" -print_final_stats=1 -timeout=25 -rss_limit_mb=2048 \
-    -artifact_prefix="$artifacts/" "$corpus" "$root/fuzz/corpus/$t" >"$log" 2>&1
-  rc=$?
-  set -e
-  execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -n 1)
+  # libFuzzer's per-input timeout reads the wall clock (system_clock), which a virtual machine's
+  # time synchronisation can step forward in the middle of an input. So a timeout is checked:
+  # the input is run again in a fresh process (an empty series cache, so at least the same
+  # work) under the same 25 s limit. A timeout that reproduces fails the run; one that does not
+  # is reported with the replay's time, and fuzzing resumes for the rest of the target's time.
+  # Twice at most: a third timeout fails whatever its replay does.
+  start=$(date +%s)
+  stalls=0
+  while :; do
+    set +e
+    fuzz_run "$t" "$((seconds - ($(date +%s) - start)))" "$log"
+    rc=$?
+    set -e
+    input=$(ls -t "$artifacts"/timeout-* 2>/dev/null | head -n 1 || true)
+    if [ "$rc" -eq 0 ] || [ -z "$input" ] || ! tail -n 40 "$log" | grep -q 'libFuzzer: timeout' ||
+      [ "$stalls" -ge 2 ]; then
+      break
+    fi
+    replay_start=$(date +%s.%N)
+    set +e
+    "$build/fuzz_$t" -timeout=25 -rss_limit_mb=2048 "$input" >"$log.replay" 2>&1
+    replay_rc=$?
+    set -e
+    replay_s=$(awk -v a="$replay_start" -v b="$(date +%s.%N)" 'BEGIN {printf "%.2f", b - a}')
+    if [ "$replay_rc" -ne 0 ]; then
+      echo "fuzz: $t: the timeout reproduces: $input (replay log $log.replay)" >&2
+      break
+    fi
+    stalls=$((stalls + 1))
+    echo "fuzz: $t: a timeout that did not reproduce: $input ran in ${replay_s} s in a fresh" \
+      "process (a stall or a step of the wall clock); resuming" | tee -a "$log" >&2
+    rm -f "$input"
+    if [ $(($(date +%s) - start)) -ge "$seconds" ]; then
+      rc=0
+      break
+    fi
+  done
+  execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | awk '{n += $1} END {print n}')
   cov=$(grep -o 'cov: [0-9]*' "$log" | tail -n 1 || true)
   if [ "$rc" -eq 0 ]; then
     line=$(printf '%-8s %12s executions in %s s, %s, corpus %s files: ok' "$t" "${execs:-?}" \
       "$seconds" "${cov:-cov: ?}" "$(ls "$corpus" | wc -l)")
+    if [ "$stalls" -gt 0 ]; then line+=" ($stalls timeout(s) not reproduced, see the log)"; fi
   else
     status=1
     line=$(printf '%-8s %12s executions: FAILED (exit %s), input in %s, log %s' "$t" \

@@ -412,7 +412,8 @@ inline std::int64_t cell_at(const CellGrid& g, double x, double y, bool inside, 
     const bool onEdge = disk & !inOpen & (x >= g.x0) & (x <= g.x1) & (y >= g.y0) & (y <= g.y1);
     const bool in = inside & (inOpen | onEdge);
     const double xLast = g.xLastIn, yLast = g.yLastIn; // read unconditionally (vector loops)
-    const double xc = onEdge & (x > xLast) ? xLast : x, yc = onEdge & (y > yLast) ? yLast : y;
+    const double xc = (onEdge & (x > xLast)) ? xLast : x;
+    const double yc = (onEdge & (y > yLast)) ? yLast : y;
     const std::int64_t i = std::min(g.nx - 1, std::int64_t(in ? (xc - g.x0) * g.perX : 0.0));
     const std::int64_t j = std::min(g.ny - 1, std::int64_t(in ? (yc - g.y0) * g.perY : 0.0));
     return in ? j * g.nx + i : -1;
