@@ -844,6 +844,10 @@ CellFunction model_function(const Params& params, const dvec3& wi) {
     const f64::rp_material m = prepare_material(sanitize(params));
     f64::rp_incident s;
     f64::rp_incident_setup(m, wi, s);
+    return model_function(m, s, wi);
+}
+
+CellFunction model_function(const f64::rp_material& m, const f64::rp_incident& s, const dvec3& wi) {
     return [m, s, wi](const dvec3& wo, double* out) {
         out[0] = out[1] = out[2] = 0;
         if (!(wo.z >= f64::RP_MIN_COS) || !(wi.z >= f64::RP_MIN_COS)) return;

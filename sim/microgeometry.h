@@ -328,6 +328,9 @@ Estimate cell_brdf(const Tally& t, int grid, int cell, int channel, double proje
 // The analytic node's lobes (surface, retro, diffuse; channel 0 of each colour, weight
 // included) as a CellFunction for incident direction wi.
 CellFunction model_function(const Params& params, const dvec3& wi);
+// The same for a prepared material and an incident state at wi that the caller may have changed
+// (a variant of the lobe, e.g. tests/sim's circle in place of the stretched ring of spots).
+CellFunction model_function(const f64::rp_material& m, const f64::rp_incident& s, const dvec3& wi);
 
 // Weighted least-squares fit of log(density) = c0 + c1 x + c2 y - x^2 / ax^2 - y^2 / ay^2 over
 // the cells of a gnomonic grid with use[cell] != 0 (density > 0), weights w[cell] (the inverse

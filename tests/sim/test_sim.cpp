@@ -871,15 +871,7 @@ sim::CellFunction circle_ring_function(const Params& params, const dvec3& wi) {
     plain.ring_par = 0.0;
     f64::rp_incident_setup(plain, wi, circle);
     circle.ringRadius = ring.ringRadius;
-    return [m, circle, wi](const dvec3& wo, double* out) {
-        out[0] = out[1] = out[2] = 0;
-        if (!(wo.z >= f64::RP_MIN_COS) || !(wi.z >= f64::RP_MIN_COS)) return;
-        f64::rp_lobes r;
-        f64::rp_eval_lobes(m, circle, wi, wo, r);
-        out[0] = r.surface.x;
-        out[1] = r.retro.x;
-        out[2] = r.diffuse.x;
-    };
+    return sim::model_function(m, circle, wi);
 }
 
 } // namespace
