@@ -329,7 +329,7 @@ Estimate cell_brdf(const Tally& t, int grid, int cell, int channel, double proje
 // included) as a CellFunction for incident direction wi.
 CellFunction model_function(const Params& params, const dvec3& wi);
 // The same for a prepared material and an incident state at wi that the caller may have changed
-// (a variant of the lobe, e.g. tests/sim's circle in place of the stretched ring of spots).
+// (a variant of a lobe, such as a different shape of the ring of spots).
 CellFunction model_function(const f64::rp_material& m, const f64::rp_incident& s, const dvec3& wi);
 
 // Weighted least-squares fit of log(density) = c0 + c1 x + c2 y - x^2 / ax^2 - y^2 / ay^2 over
