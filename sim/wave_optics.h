@@ -113,6 +113,13 @@ struct WaveMaterial {
     double pitch_um = 150.0;
 };
 
+// The material of the node's parameters (ior, prism_reflection, metal_reflectance, cant_angle,
+// dihedral_error) with the groove spacing `pitchUm`; the mode of its era_mode (matched_pair and
+// oriented at its orientation).
+WaveMaterial wave_material(const Params& p, double pitchUm);
+struct WaveMode;
+WaveMode wave_mode(const Params& p);
+
 // Throws InputError naming the field and its range unless: ior in [1, 3], prism_reflection in
 // {0, 1, 2}, metal_reflectance valid for metal_index (metallized), cant in [-30, 30] degrees,
 // dihedral error in [-60, 60] arcmin, pitch in [1, 1e5] um.
@@ -174,6 +181,11 @@ struct FarField {
     std::vector<PolygonTransform> transforms;
     double k0 = 0;
 };
+
+// R_A on an n x n grid of observation directions about wi: s_xy = wi_xy + (u, v), u and v the
+// cell centres of [-half, half] (half = halfWidthDeg in radians of transverse direction),
+// row-major with v the row: the 2D far field of one prism (n in [1, 4096]).
+std::vector<double> far_field_grid(const Pupil& pupil, int n, double halfWidthDeg);
 
 // The direction at angle `observationRad` from wi, at azimuth chi about it: chi = 0 toward
 // a = normalize(z - wi (wi.z)) (in the plane of incidence, toward the normal; +x at normal

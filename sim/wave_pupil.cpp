@@ -240,6 +240,25 @@ double FarField::ra(const dvec3& wo) const {
     return pupil.wi.z * wo.z * intensity(dvec2(wo.x, wo.y)) / (lambda * lambda * pupil.cell_area);
 }
 
+std::vector<double> far_field_grid(const Pupil& pupil, int n, double halfWidthDeg) {
+    if (!(n >= 1 && n <= 4096))
+        throw InputError("n " + std::to_string(n) + ": expected a whole number in [1, 4096]");
+    if (!(halfWidthDeg > 0 && halfWidthDeg <= 30))
+        throw InputError("halfWidthDeg " + std::to_string(halfWidthDeg) +
+                         ": expected a number in (0, 30]");
+    const FarField ff(pupil);
+    const double half = halfWidthDeg * kPi / 180.0;
+    std::vector<double> grid;
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const dvec2 sxy = dvec2(pupil.wi.x, pupil.wi.y) +
+                              half * dvec2(2.0 * (i + 0.5) / n - 1.0, 2.0 * (j + 0.5) / n - 1.0);
+            const double z2 = 1.0 - glm::dot(sxy, sxy);
+            grid.push_back(z2 > 0 ? ff.ra(dvec3(sxy, std::sqrt(z2))) : 0.0);
+        }
+    return grid;
+}
+
 dvec3 observation_direction(const dvec3& wi, double observationRad, double chi) {
     dvec3 a = dvec3(0, 0, 1) - wi * wi.z;
     a = glm::length(a) > 1e-12 ? glm::normalize(a) : dvec3(1, 0, 0);

@@ -88,6 +88,26 @@ double largest_side(const Polygon& p) {
 
 } // namespace
 
+WaveMaterial wave_material(const Params& p, double pitchUm) {
+    WaveMaterial m;
+    m.ior = p.ior;
+    m.prism_reflection = p.prism_reflection;
+    m.metal_reflectance = p.metal_reflectance;
+    m.cant_deg = p.cant_angle;
+    m.dihedral_arcmin = p.dihedral_error;
+    m.pitch_um = pitchUm;
+    return m;
+}
+
+WaveMode wave_mode(const Params& p) {
+    WaveMode mode;
+    mode.era = p.era_mode == f64::RP_ERA_MATCHED_PAIR ? WaveMode::Era::kMatchedPair
+               : p.era_mode == f64::RP_ERA_ORIENTED   ? WaveMode::Era::kOriented
+                                                      : WaveMode::Era::kAveraged;
+    mode.rotations_deg = {p.orientation};
+    return mode;
+}
+
 std::vector<double> wave_ra_profile(const WaveMaterial& m, double entranceDeg,
                                     const std::vector<double>& observationDeg, double lambdaNm,
                                     const WaveMode& mode) {
