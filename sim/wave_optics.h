@@ -199,6 +199,15 @@ dvec3 observation_direction(const dvec3& wi, double observationRad, double chi);
 // (docs/wave_optics.md derives it). Returns P_eff.
 double tail_perimeter(const Polygon& p, const dvec3& wi);
 
+// The same for a whole pupil of perfect cubes (every order with the same g): the edges' spikes
+// add per line of the sheet plane, with the jump of the field across it (the difference of the
+// orders' fields on either side, zero outside): <R_A> -> cos(theta_o) lambda K / (4 pi^3
+// theta^3 A_cell), K = sum over lines of rho_line times the integral along the line of the mean
+// over the inputs of |jump|^2, rho = sqrt((n.a)^2 / cos^2(theta_i) + (n.b)^2). For ideal faces
+// the jumps between orders vanish and K = P_eff (Ts^2 + Tp^2) / 2; TIR orders add their
+// internal edges. Returns K (um).
+double tail_constant(const Pupil& pupil);
+
 // ---- FFT of the sampled pupil ---------------------------------------------------------------
 
 // The far field by FFT: the pupil's field (each order's polygon with its field, phase and

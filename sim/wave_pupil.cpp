@@ -285,6 +285,99 @@ double tail_perimeter(const Polygon& p, const dvec3& wi) {
     return sum;
 }
 
+namespace {
+
+// One edge of an order's exit polygon on its line: the line's canonical unit normal n and offset
+// c = n.x, the interval [t0, t1] along tau = (-n.y, n.x), and the field's jump across the line
+// toward +n (minus the order's field where its outward normal is +n, plus it where -n).
+struct LineSegment {
+    dvec2 n;
+    double c, t0, t1;
+    std::array<Field, 2> jump;
+};
+
+std::vector<LineSegment> line_segments(const Pupil& pupil) {
+    std::vector<LineSegment> list;
+    for (const Order& o : pupil.orders) {
+        const cplx phase(std::cos(o.phase), std::sin(o.phase));
+        for (size_t j = 0; j < o.exit.size(); ++j) {
+            const dvec2 a = o.exit[j], b = o.exit[(j + 1) % o.exit.size()];
+            const double len = glm::length(b - a);
+            if (len <= 0) continue;
+            LineSegment seg;
+            seg.n = dvec2(b.y - a.y, a.x - b.x) / len; // outward for counter-clockwise
+            double sign = -1;
+            if (seg.n.x < -1e-12 || (std::abs(seg.n.x) <= 1e-12 && seg.n.y < 0)) {
+                seg.n = -seg.n;
+                sign = 1;
+            }
+            const dvec2 tau(-seg.n.y, seg.n.x);
+            seg.c = glm::dot(seg.n, a);
+            seg.t0 = std::min(glm::dot(tau, a), glm::dot(tau, b));
+            seg.t1 = std::max(glm::dot(tau, a), glm::dot(tau, b));
+            for (int in = 0; in < 2; ++in)
+                for (int c = 0; c < 3; ++c)
+                    seg.jump[size_t(in)][size_t(c)] = sign * phase * o.field[size_t(in)][size_t(c)];
+            list.push_back(seg);
+        }
+    }
+    return list;
+}
+
+// The integral along one line (its segments) of the mean over inputs of |jump|^2.
+double line_integral(const std::vector<const LineSegment*>& line) {
+    std::vector<double> cuts;
+    for (const LineSegment* s : line) {
+        cuts.push_back(s->t0);
+        cuts.push_back(s->t1);
+    }
+    std::sort(cuts.begin(), cuts.end());
+    double sum = 0;
+    for (size_t k = 0; k + 1 < cuts.size(); ++k) {
+        const double mid = 0.5 * (cuts[k] + cuts[k + 1]);
+        std::array<Field, 2> jump{};
+        for (const LineSegment* s : line)
+            if (s->t0 < mid && mid < s->t1)
+                for (int in = 0; in < 2; ++in)
+                    for (int c = 0; c < 3; ++c)
+                        jump[size_t(in)][size_t(c)] += s->jump[size_t(in)][size_t(c)];
+        double norm = 0;
+        for (const Field& col : jump)
+            for (const cplx& v : col)
+                norm += std::norm(v);
+        sum += 0.5 * norm * (cuts[k + 1] - cuts[k]);
+    }
+    return sum;
+}
+
+} // namespace
+
+double tail_constant(const Pupil& pupil) {
+    const std::vector<LineSegment> segments = line_segments(pupil);
+    const dvec3 wi = pupil.wi;
+    dvec3 a = dvec3(0, 0, 1) - wi * wi.z;
+    a = glm::length(a) > 1e-12 ? glm::normalize(a) : dvec3(1, 0, 0);
+    const dvec3 b = glm::cross(wi, a);
+    const dvec2 ah = glm::normalize(dvec2(a.x, a.y)), bh = glm::normalize(dvec2(b.x, b.y));
+    const double tol = 1e-9 * std::sqrt(pupil.cell_area);
+    std::vector<bool> used(segments.size(), false);
+    double k = 0;
+    for (size_t i = 0; i < segments.size(); ++i) {
+        if (used[i]) continue;
+        std::vector<const LineSegment*> line;
+        for (size_t j = i; j < segments.size(); ++j)
+            if (!used[j] && glm::length(segments[j].n - segments[i].n) < 1e-9 &&
+                std::abs(segments[j].c - segments[i].c) < tol) {
+                used[j] = true;
+                line.push_back(&segments[j]);
+            }
+        const dvec2 n = segments[i].n;
+        const double na = glm::dot(n, ah) / wi.z, nb = glm::dot(n, bh);
+        k += std::sqrt(na * na + nb * nb) * line_integral(line);
+    }
+    return k;
+}
+
 } // namespace wave
 } // namespace sim
 } // namespace retroprism

@@ -596,6 +596,45 @@ TEST_CASE("far field: the azimuth-averaged tail of ideal prisms", "[wave]") {
                     entrance, mean / predicted, pEff, wave::polygon_perimeter(era));
         // The mean over a finite window of the interference term cos(k w): a few %.
         CHECK(std::abs(mean / predicted - 1) < 0.05);
+        CHECK(std::abs(wave::tail_constant(pupil) / (pEff * tt) - 1) < 1e-12);
+    }
+}
+
+TEST_CASE("far field: the tail of TIR prisms, their internal edges included", "[wave]") {
+    // TIR orders differ in Jones matrix and phase, so the edges between them diffract too:
+    // tail_constant sums, line by line, the jump of the field across each line; against the
+    // azimuth mean of R_A theta^3 over 2-5 deg (as for ideal prisms), and beside the outer
+    // boundary's share alone.
+    for (double entrance : {0.0, 30.0}) {
+        wave::WaveMaterial m;
+        m.pitch_um = 100;
+        const dvec3 wi = entrance_wi(entrance);
+        const sim::CubeCorner cc = sim::cube_corner(0.0, 0.0, 0.2);
+        const wave::Pupil pupil = wave::exit_pupil(m, cc, wi, 0.55);
+        const wave::FarField ff(pupil);
+        const double kTail = wave::tail_constant(pupil);
+        const wave::Polygon era = era_polygon(pupil, wave::aperture_scale(cc, m.pitch_um));
+        const double outer =
+            wave::tail_perimeter(era, wi) * 0.5 * (pupil.ts * pupil.ts + pupil.tp * pupil.tp);
+        double mean = 0;
+        const int n = 40;
+        for (int a = 0; a < n; ++a) {
+            const double theta = (2.0 + 3.0 * (a + 0.5) / n) * kDeg;
+            const int nChi = 512;
+            double avg = 0;
+            for (int j = 0; j < nChi; ++j)
+                avg += ff.ra(wave::observation_direction(wi, theta, 2 * kPi * (j + 0.5) / nChi));
+            mean += avg / nChi * theta * theta * theta / n;
+        }
+        const double unit = wi.z * 0.55 / (4 * kPi * kPi * kPi * pupil.cell_area);
+        std::printf("MEASURED: tail of TIR prisms at entrance %g: mean theta^3 <R_A> / (cos lambda "
+                    "K / (4 pi^3 A_cell)) = %.4f with tail_constant K = %.1f um; the outer "
+                    "boundary alone would give %.1f um\n",
+                    entrance, mean / (unit * kTail), kTail, outer);
+        CHECK(std::abs(mean / (unit * kTail) - 1) < 0.05);
+        // Every face in TIR at normal incidence (no loss): the outer boundary's share is the
+        // ideal prism's, and the internal edges nearly triple it (measured 624 against 213 um).
+        if (entrance == 0) CHECK(kTail > 2 * outer);
     }
 }
 
@@ -625,6 +664,29 @@ TEST_CASE("R_A: the azimuth and orientation quadratures converge", "[wave]") {
     CHECK(worstA < 1e-9);
     // The orientations: kinks, so 1/N^2; 64 nodes are within a few 1e-3 of 256.
     CHECK(worstO < 0.01);
+}
+
+TEST_CASE("R_A: the mirror symmetry the orientation average uses", "[wave]") {
+    // The corner at rotation -psi is the mirror image of the one at psi in the plane of
+    // incidence: equal R_A for the azimuth mean and the coplanar observation (wave_ra.cpp).
+    wave::WaveMaterial m;
+    m.cant_deg = -8.0;
+    m.dihedral_arcmin = 4.0;
+    double worst = 0;
+    for (bool coplanar : {false, true})
+        for (double rotation : {17.0, 71.0, 133.0}) {
+            wave::WaveMode plus, minus;
+            plus.era = minus.era = wave::WaveMode::Era::kOriented;
+            plus.coplanar = minus.coplanar = coplanar;
+            plus.rotations_deg = {rotation};
+            minus.rotations_deg = {-rotation};
+            const std::vector<double> a = wave::wave_ra_profile(m, 30.0, {0.3, 1.0}, 700.0, plus);
+            const std::vector<double> b = wave::wave_ra_profile(m, 30.0, {0.3, 1.0}, 700.0, minus);
+            for (size_t i = 0; i < a.size(); ++i)
+                worst = std::max(worst, std::abs(a[i] / b[i] - 1));
+        }
+    std::printf("MEASURED: mirror symmetry R_A(psi) / R_A(-psi) - 1: worst %.1e\n", worst);
+    CHECK(worst < 1e-9);
 }
 
 TEST_CASE("photometry: illuminant A, V(lambda), the weights", "[wave]") {
