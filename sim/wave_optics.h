@@ -177,7 +177,7 @@ struct FarField {
     // R_A (sr^-1) toward the unit direction wo.
     double ra(const dvec3& wo) const;
 
-    const Pupil& pupil;
+    Pupil pupil; // a copy: a FarField may outlive the pupil it was made from
     std::vector<PolygonTransform> transforms;
     double k0 = 0;
 };

@@ -88,9 +88,9 @@ Polygon scaled(const Polygon& p, double s) {
 
 // The exit field of the order for the unit inputs s and p of the incident wave: refraction in,
 // the three faces, refraction out.
-void order_field(const WaveMaterial& m, const CubeCorner& cc, const dvec3& wi, Order& o) {
+void order_field(const WaveMaterial& m, const CubeCorner& cc, const dvec3& wi, cplx metal,
+                 Order& o) {
     const Face face = Face(m.prism_reflection);
-    const cplx metal = face == Face::kMetal ? metal_index(m.metal_reflectance, m.ior) : cplx(0);
     dvec3 sIn, pIn, sOut, pOut;
     sp_basis(-wi, dvec3(0, 0, 1), sIn, pIn);
     for (int in = 0; in < 2; ++in) {
@@ -180,15 +180,18 @@ Pupil exit_pupil(const WaveMaterial& m, const CubeCorner& cc, const dvec3& wi, d
     const double gain = (m.ior * in.cosT.real()) / wi.z;
     pupil.ts = gain * std::norm(in.ts);
     pupil.tp = gain * std::norm(in.tp);
-    dvec3 k = -wi;
-    transmit_field({0.0, 0.0, 0.0}, k, dvec3(0, 0, 1), 1.0, m.ior);
-    pupil.d = k;
+    // Snell's law: the transverse component wi_xy / eta, downward.
+    const dvec2 dxy = -dvec2(wi.x, wi.y) / m.ior;
+    pupil.d = dvec3(dxy, -std::sqrt(std::max(0.0, 1.0 - glm::dot(dxy, dxy))));
+    const cplx metal = m.prism_reflection == int(Face::kMetal)
+                           ? metal_index(m.metal_reflectance, m.ior)
+                           : cplx(0.0);
     std::array<int, 3> faces = {0, 1, 2};
     do {
         Order o;
         o.faces = faces;
         if (!trace_polygons(m, cc, pupil, scale, o)) continue;
-        order_field(m, cc, wi, o);
+        order_field(m, cc, wi, metal, o);
         pupil.orders.push_back(o);
     } while (std::next_permutation(faces.begin(), faces.end()));
     return pupil;

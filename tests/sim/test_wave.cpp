@@ -689,6 +689,40 @@ TEST_CASE("R_A: the mirror symmetry the orientation average uses", "[wave]") {
     CHECK(worst < 1e-9);
 }
 
+TEST_CASE("R_A: modes agree where the geometry says they must", "[wave]") {
+    // At normal incidence turning the prism turns its far field about wi, which the mean over
+    // the observation azimuth removes: every rotation, the matched pair and the orientation
+    // average give the same R_A (cant 0 and 12, dihedral 5'). The matched pair is the mean of
+    // its two members.
+    double worstTurn = 0, worstPair = 0;
+    for (double cant : {0.0, 12.0}) {
+        wave::WaveMaterial m;
+        m.cant_deg = cant;
+        m.dihedral_arcmin = 5.0;
+        const std::vector<double> obs = {0.15, 0.6, 1.4};
+        const std::vector<double> avg = wave::wave_ra_profile(m, 0.0, obs, 600.0);
+        wave::WaveMode one, other, pair;
+        one.era = other.era = wave::WaveMode::Era::kOriented;
+        pair.era = wave::WaveMode::Era::kMatchedPair;
+        one.rotations_deg = {23.0};
+        other.rotations_deg = {203.0};
+        pair.rotations_deg = {23.0};
+        const std::vector<double> a = wave::wave_ra_profile(m, 0.0, obs, 600.0, one);
+        const std::vector<double> c = wave::wave_ra_profile(m, 35.0, obs, 600.0, one);
+        const std::vector<double> d = wave::wave_ra_profile(m, 35.0, obs, 600.0, other);
+        const std::vector<double> p = wave::wave_ra_profile(m, 35.0, obs, 600.0, pair);
+        for (size_t i = 0; i < obs.size(); ++i) {
+            worstTurn = std::max(worstTurn, std::abs(a[i] / avg[i] - 1));
+            worstPair = std::max(worstPair, std::abs(p[i] / (0.5 * (c[i] + d[i])) - 1));
+        }
+    }
+    std::printf("MEASURED: modes: normal incidence, one rotation / orientation average - 1: worst "
+                "%.1e; matched pair / mean of its members - 1: worst %.1e\n",
+                worstTurn, worstPair);
+    CHECK(worstTurn < 1e-9);
+    CHECK(worstPair < 1e-12);
+}
+
 TEST_CASE("photometry: illuminant A, V(lambda), the weights", "[wave]") {
     double integral = 0;
     for (int l = 380; l <= 780; l += 10)
