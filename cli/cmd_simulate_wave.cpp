@@ -91,6 +91,7 @@ int simulate_wave_command(int argc, const char** argv) {
     if (!file.empty()) p = params_from_json(read_json(file), file);
     const double pitch = parse_number_in(ap["pitch"].get<std::string>(), "--pitch", 1, 1e5);
     const sim::wave::WaveMaterial m = sim::wave::wave_material(p, pitch);
+    sim::wave::check_material(m);
     const sim::wave::WaveMode mode = mode_option(p, ap);
     const std::vector<double> entrance =
         number_list(ap["entrance"].get<std::string>(), "--entrance", -85, 85);

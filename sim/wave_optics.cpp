@@ -223,18 +223,21 @@ double metal_reflectance_at(double eta, cplx n2) {
 } // namespace
 
 cplx metal_index(double reflectance, double eta) {
+    if (!(reflectance >= 0.0 && reflectance < 1.0))
+        throw InputError("metal_reflectance " + num(reflectance) +
+                         ": expected a number in [0, 1) (metallized prisms)");
+    // Bisection on a monotone family: the aluminium-shaped scale a in [3, 1e7] where it reaches
+    // the reflectance, else the absorbing dielectric eta + i kappa, kappa in [0, 1e7] (0 at
+    // kappa = 0, up to the aluminium family's least at kappa ~ 5.9).
     const cplx shape = kAluminium / kAluminium.imag();
-    const double low = metal_reflectance_at(eta, kMetalScaleMin * shape);
-    if (!(reflectance >= low && reflectance < 1.0))
-        throw InputError("metal_reflectance " + num(reflectance) + ": expected a number in [" +
-                         num(low) + ", 1) (the reflectance of an aluminium-shaped index at ior " +
-                         num(eta) + ")");
-    double a = kMetalScaleMin, b = 1e7;
+    const bool aluminium = reflectance >= metal_reflectance_at(eta, kMetalScaleMin * shape);
+    auto index = [&](double x) { return aluminium ? x * shape : cplx(eta, x); };
+    double a = aluminium ? kMetalScaleMin : 0.0, b = 1e7;
     for (int it = 0; it < 200 && b - a > 1e-12 * b; ++it) {
-        const double mid = std::sqrt(a * b);
-        (metal_reflectance_at(eta, mid * shape) < reflectance ? a : b) = mid;
+        const double mid = a > 0 ? std::sqrt(a * b) : 0.5 * (a + b);
+        (metal_reflectance_at(eta, index(mid)) < reflectance ? a : b) = mid;
     }
-    return 0.5 * (a + b) * shape;
+    return index(0.5 * (a + b));
 }
 
 void check_material(const WaveMaterial& m) {

@@ -94,8 +94,10 @@ void sp_basis(const dvec3& k, const dvec3& n, dvec3& s, dvec3& p);
 // The metal of a metallized face: aluminium's index shape, N = a (0.958 + 6.69 i) / 6.69
 // (Rakic 1995 at 550 nm: a = 6.69), its scale a >= 3 chosen so that the unpolarised
 // reflectance inside index eta at incidence acos(1/sqrt3) = 54.74 degrees (the faces of the
-// uncanted cube at normal incidence) is `reflectance`. Throws InputError naming
-// metal_reflectance when it is below what a = 3 gives (0.80 at eta 1.49) or not below 1.
+// uncanted cube at normal incidence) is `reflectance` (0.88 at eta 1.49: N = 0.98 + 6.87 i).
+// Below what a = 3 gives (0.80 at eta 1.49), which no aluminium coat has, an absorbing
+// dielectric N = eta + i kappa with that reflectance. Throws InputError naming
+// metal_reflectance unless it is in [0, 1).
 cplx metal_index(double reflectance, double eta);
 
 // ---- The exit pupil of one cube corner ------------------------------------------------------

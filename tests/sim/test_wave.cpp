@@ -328,18 +328,27 @@ TEST_CASE("Fresnel amplitudes: boundary conditions, TIR phases, the metal", "[wa
         worstTir =
             std::max(worstTir, std::abs(std::abs(std::tan(std::arg(f.rp / f.rs) / 2)) - expected));
     }
-    // The metallized face: the index whose reflectance at 54.74 deg is 0.88.
+    // The metallized face: the index whose reflectance at 54.74 deg is 0.88, 0.5 (the
+    // absorbing dielectric below the aluminium family) and 0.995.
+    double worstMetal = 0;
+    for (double target : {0.0, 0.3, 0.5, 0.8, 0.81, 0.995}) {
+        const wave::Fresnel f =
+            wave::fresnel(1 / std::sqrt(3.0), 1.49, wave::metal_index(target, 1.49));
+        worstMetal =
+            std::max(worstMetal, std::abs(0.5 * (std::norm(f.rs) + std::norm(f.rp)) - target));
+    }
     const cplx metal = wave::metal_index(0.88, 1.49);
     const wave::Fresnel fm = wave::fresnel(1 / std::sqrt(3.0), 1.49, metal);
     const double rm = 0.5 * (std::norm(fm.rs) + std::norm(fm.rp));
     std::printf("MEASURED: Fresnel: worst tangential E, H mismatch %.2e over 7 cases; TIR |r| - 1 "
                 "%.1e, tan(delta/2) against B&W Eq. 60 %.1e; metal for R = 0.88 at ior 1.49: N = "
-                "%.4f + %.4fi (R %.6f)\n",
-                worst, worstModulus, worstTir, metal.real(), metal.imag(), rm);
+                "%.4f + %.4fi (R %.6f); worst |R - target| over 6 targets 0-0.995 %.1e\n",
+                worst, worstModulus, worstTir, metal.real(), metal.imag(), rm, worstMetal);
     CHECK(worst < 1e-12);
     CHECK(worstModulus < 1e-12);
     CHECK(worstTir < 1e-12);
     CHECK(std::abs(rm - 0.88) < 1e-9);
+    CHECK(worstMetal < 1e-9);
 }
 
 TEST_CASE("exit pupil: orders tile the ERA, plane exit wavefront, the trace's directions",
@@ -776,8 +785,8 @@ TEST_CASE("wave: bad input names the parameter and its range", "[wave]") {
     CHECK(contains(message([&] { wave::wave_ra(m, 0, 0.5, 550); }), "ior nan: expected"));
     m = wave::WaveMaterial();
     m.prism_reflection = 2;
-    m.metal_reflectance = 0.3;
-    CHECK(contains(message([&] { wave::wave_ra(m, 0, 0.5, 550); }), "metal_reflectance 0.3"));
+    m.metal_reflectance = 1.0;
+    CHECK(contains(message([&] { wave::wave_ra(m, 0, 0.5, 550); }), "metal_reflectance 1:"));
     m = wave::WaveMaterial();
     CHECK(contains(message([&] { wave::wave_ra(m, 0, 0.0, 550); }), "observation 0: expected"));
     CHECK(contains(message([&] { wave::wave_ra(m, 88, 0.5, 550); }), "entrance 88: expected"));
