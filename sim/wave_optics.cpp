@@ -246,9 +246,21 @@ void check_material(const WaveMaterial& m) {
             m.prism_reflection, "0 (ideal), 1 (tir) or 2 (metallized)");
     if (m.prism_reflection == 2) metal_index(m.metal_reflectance, m.ior);
     require(std::abs(m.cant_deg) <= 30.0, "cant_deg", m.cant_deg, "a number in [-30, 30]");
+    for (double e : m.dihedral_faces_arcmin) {
+        require(std::abs(e) <= 60.0, "dihedral_faces_arcmin", e, "a number in [-60, 60]");
+        if (e != 0.0 && m.dihedral_arcmin != 0.0)
+            throw InputError("dihedral_faces_arcmin: expected 0 when dihedral_arcmin is set (" +
+                             num(m.dihedral_arcmin) + ")");
+    }
     require(std::abs(m.dihedral_arcmin) <= 60.0, "dihedral_arcmin", m.dihedral_arcmin,
             "a number in [-60, 60]");
     require(m.pitch_um >= 1.0 && m.pitch_um <= 1e5, "pitch_um", m.pitch_um, "a number in [1, 1e5]");
+}
+
+CubeCorner wave_corner(const WaveMaterial& m, double psi) {
+    const std::array<double, 3>& e = m.dihedral_faces_arcmin;
+    if (e[0] != 0.0 || e[1] != 0.0 || e[2] != 0.0) return cube_corner(m.cant_deg, e.data(), psi);
+    return cube_corner(m.cant_deg, m.dihedral_arcmin, psi);
 }
 
 } // namespace wave

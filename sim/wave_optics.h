@@ -109,6 +109,9 @@ struct WaveMaterial {
     double metal_reflectance = 0.88; // metallized: the face reflectance at 54.74 degrees
     double cant_deg = 0.0;           // cube_corner's cant
     double dihedral_arcmin = 0.0;    // cube_corner's dihedral error, all three angles
+    // Or per face: the error between the two faces other than k (cube_corner's overload), when
+    // any is not 0 (dihedral_arcmin must then be 0).
+    std::array<double, 3> dihedral_faces_arcmin{0.0, 0.0, 0.0};
     // The groove spacing in micrometres: the height of the aperture triangle of the truncated
     // cube corner over its edge in face 1 (the quantity patents quote; for cant 0 all three
     // heights). A_cell is the triangle's area: pitch^2 / sqrt3 for cant 0.
@@ -122,9 +125,12 @@ WaveMaterial wave_material(const Params& p, double pitchUm);
 struct WaveMode;
 WaveMode wave_mode(const Params& p);
 
+// The material's corner at orientation psi (radians), cube_corner's.
+CubeCorner wave_corner(const WaveMaterial& m, double psi);
+
 // Throws InputError naming the field and its range unless: ior in [1, 3], prism_reflection in
 // {0, 1, 2}, metal_reflectance valid for metal_index (metallized), cant in [-30, 30] degrees,
-// dihedral error in [-60, 60] arcmin, pitch in [1, 1e5] um.
+// dihedral errors in [-60, 60] arcmin (per face or all three, not both), pitch in [1, 1e5] um.
 void check_material(const WaveMaterial& m);
 
 // One face order: the entry points whose ray meets faces[0], faces[1], faces[2] in turn and
@@ -236,7 +242,8 @@ FftFarField fft_far_field(const Pupil& pupil, int cellsAcross, int pad);
 
 // Which prism orientations are summed (incoherently, each the prism's own cell):
 //  - kAveraged: uniform over the period (120 degrees for cant 0, else 360), by the midpoint rule
-//    with `orientations` nodes over half of it (the mirror symmetry, wave_ra.cpp); the
+//    with `orientations` nodes over half of it (the mirror symmetry, wave_ra.cpp; unequal
+//    per-face errors break both symmetries: 360 degrees, 2 orientations nodes); the
 //    integrand has kinks (faces entering TIR, the ERA polygon changing its vertices), so the
 //    rule converges as 1/N^2 (tests/sim/test_wave.cpp measures it);
 //  - kMatchedPair: the prism at each rotation and its copy turned by 180 degrees;

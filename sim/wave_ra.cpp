@@ -37,9 +37,12 @@ std::vector<Orientation> orientations(const WaveMaterial& m, const WaveMode& mod
         // corner's plane through its cant direction is a mirror plane), and the mean over input
         // polarisations and the observation azimuth (or the coplanar observation) of a mirror
         // image is the same: half the period suffices.
-        const double half = m.cant_deg == 0.0 ? kPi / 3.0 : kPi;
-        for (int j = 0; j < mode.orientations; ++j)
-            list.push_back({(j + 0.5) * half / mode.orientations, 1.0 / mode.orientations});
+        const std::array<double, 3>& e = m.dihedral_faces_arcmin;
+        const bool symmetric = e[0] == e[1] && e[1] == e[2];
+        const double half = !symmetric ? 2.0 * kPi : m.cant_deg == 0.0 ? kPi / 3.0 : kPi;
+        const int n = symmetric ? mode.orientations : 2 * mode.orientations;
+        for (int j = 0; j < n; ++j)
+            list.push_back({(j + 0.5) * half / n, 1.0 / n});
         return list;
     }
     if (mode.rotations_deg.empty())
@@ -117,7 +120,7 @@ std::vector<double> wave_ra_profile(const WaveMaterial& m, double entranceDeg,
     const dvec3 wi(std::sin(beta), 0.0, std::cos(beta));
     std::vector<double> ra(observationDeg.size(), 0.0);
     for (const Orientation& o : orientations(m, mode)) {
-        const CubeCorner cc = cube_corner(m.cant_deg, m.dihedral_arcmin, o.psi);
+        const CubeCorner cc = wave_corner(m, o.psi);
         const Pupil pupil = exit_pupil(m, cc, wi, lambdaNm * 1e-3);
         const FarField ff(pupil);
         const double diameter = largest_side(pupil.aperture);
