@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <mutex>
 
 #include <fftw3.h>
 
@@ -121,8 +122,13 @@ FftFarField fft_far_field(const Pupil& pupil, int cellsAcross, int pad) {
 
     const size_t n = size_t(r.size) * size_t(r.size);
     FftwBuffer buf(n);
-    const fftw_plan plan =
-        fftw_plan_dft_2d(r.size, r.size, buf.data, buf.data, FFTW_FORWARD, FFTW_ESTIMATE);
+    // FFTW's planner is not thread-safe (its manual, "Thread safety"); execution is.
+    static std::mutex planner;
+    fftw_plan plan;
+    {
+        const std::lock_guard<std::mutex> lock(planner);
+        plan = fftw_plan_dft_2d(r.size, r.size, buf.data, buf.data, FFTW_FORWARD, FFTW_ESTIMATE);
+    }
     for (int in = 0; in < 2; ++in)
         for (int c = 0; c < 3; ++c) {
             std::fill(buf.data[0], buf.data[0] + 2 * n, 0.0);
@@ -152,6 +158,7 @@ FftFarField fft_far_field(const Pupil& pupil, int cellsAcross, int pad) {
                                 size_t(i + r.size / 2)] += 0.5 * norm2;
                 }
         }
+    const std::lock_guard<std::mutex> lock(planner);
     fftw_destroy_plan(plan);
     return r;
 }

@@ -236,6 +236,8 @@ struct FftFarField {
 };
 // `cellsAcross`: cells over the pupil's larger extent; `pad`: size = pad * cellsAcross rounded
 // up to a power of two. Throws InputError unless cellsAcross in [8, 4096] and pad in [2, 64].
+// Thread-safe (FFTW's planner behind a lock). ra_scale is exact at g_ref only; the tests compare
+// intensities.
 FftFarField fft_far_field(const Pupil& pupil, int cellsAcross, int pad);
 
 // ---- R_A of the sheet -----------------------------------------------------------------------
