@@ -119,11 +119,8 @@ struct WaveMaterial {
 };
 
 // The material of the node's parameters (ior, prism_reflection, metal_reflectance, cant_angle,
-// dihedral_error) with the groove spacing `pitchUm`; the mode of its era_mode (matched_pair and
-// oriented at its orientation).
+// dihedral_error) with the groove spacing `pitchUm`.
 WaveMaterial wave_material(const Params& p, double pitchUm);
-struct WaveMode;
-WaveMode wave_mode(const Params& p);
 
 // The material's corner at orientation psi (radians), cube_corner's.
 CubeCorner wave_corner(const WaveMaterial& m, double psi);
@@ -265,6 +262,9 @@ struct WaveMode {
     // then exact to rounding: the test measures 2 against 4).
     double azimuth_density = 2.0;
 };
+
+// The mode of the node's era_mode (matched_pair and oriented at its orientation).
+WaveMode wave_mode(const Params& p);
 
 // R_A (sr^-1) of the prisms alone at entrance `entranceDeg` (signed: wi = (sin, 0, cos)) for each
 // observation angle (degrees, in (0, 20]) at wavelength lambdaNm in [200, 20000]. Throws
