@@ -43,6 +43,8 @@ sim::wave::WaveMode mode_option(const Params& p, OIIO::ArgParse& ap) {
     const std::string rotations = ap["rotation"].get<std::string>();
     if (!rotations.empty()) mode.rotations_deg = number_list(rotations, "--rotation", -360, 360);
     mode.coplanar = ap["coplanar"].get<int>() != 0;
+    mode.pitch_spread =
+        parse_number_in(ap["pitch_spread"].get<std::string>(), "--pitch-spread", 0, 0.5);
     return mode;
 }
 
@@ -57,7 +59,7 @@ int simulate_wave_command(int argc, const char** argv) {
              "coplanar observation of `retroprism ra`).")
         .usage("retroprism simulate --wave [--material FILE.json] [--pitch UM] [--entrance "
                "DEG,...] [--observation DEG,...] [--wavelength NM,... | --photopic] [--era MODE] "
-               "[--rotation DEG,...] [--coplanar]");
+               "[--rotation DEG,...] [--pitch-spread S] [--coplanar]");
     ap.arg("--wave").help("the physical-optics R_A table").store_true();
     ap.arg("--material FILE").help("node inputs as a JSON object (default: all defaults)");
     ap.arg("--pitch UM")
@@ -81,6 +83,10 @@ int simulate_wave_command(int argc, const char** argv) {
     ap.arg("--rotation DEG,...")
         .help("rotation angles of matched_pair and oriented, averaged (default: the material's "
               "orientation; datasheets: 0,90)");
+    ap.arg("--pitch-spread S")
+        .dest("pitch_spread")
+        .help("pitches uniform over pitch (1 +- S), S in [0, 0.5] (default 0: one pitch)")
+        .defaultval("0");
     ap.arg("--coplanar")
         .help("the coplanar observation of `retroprism ra` instead of the azimuth mean")
         .store_true();

@@ -261,6 +261,13 @@ struct WaveMode {
     // circle holds harmonics up to about k0 theta D, so 2 resolve it (the trapezoidal rule is
     // then exact to rounding: the test measures 2 against 4).
     double azimuth_density = 2.0;
+    // Prisms of several sizes (moulding tolerances): pitches uniform by number over
+    // pitch_um (1 +- pitch_spread), pitch_spread in [0, 0.5], by the midpoint rule with
+    // pitch_nodes nodes; each pitch's R_A weighted by its cell area (R_A is per unit of sheet).
+    // R_A(alpha; pitch, lambda) = (pitch/lambda)^2 G(alpha pitch / lambda) without dispersion,
+    // so a spread of pitches acts as a band of wavelengths: it washes out the rings of one size.
+    double pitch_spread = 0.0;
+    int pitch_nodes = 16;
 };
 
 // The mode of the node's era_mode (matched_pair and oriented at its orientation).

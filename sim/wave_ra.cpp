@@ -111,11 +111,12 @@ WaveMode wave_mode(const Params& p) {
     return mode;
 }
 
-std::vector<double> wave_ra_profile(const WaveMaterial& m, double entranceDeg,
-                                    const std::vector<double>& observationDeg, double lambdaNm,
-                                    const WaveMode& mode) {
-    check_material(m);
-    check_arguments(entranceDeg, observationDeg, lambdaNm, mode);
+namespace {
+
+// The profile of prisms of one pitch (m.pitch_um).
+std::vector<double> one_pitch_profile(const WaveMaterial& m, double entranceDeg,
+                                      const std::vector<double>& observationDeg, double lambdaNm,
+                                      const WaveMode& mode) {
     const double beta = entranceDeg * kDeg;
     const dvec3 wi(std::sin(beta), 0.0, std::cos(beta));
     std::vector<double> ra(observationDeg.size(), 0.0);
@@ -132,6 +133,39 @@ std::vector<double> wave_ra_profile(const WaveMaterial& m, double entranceDeg,
             ra[a] += o.weight * v;
         }
     }
+    return ra;
+}
+
+} // namespace
+
+std::vector<double> wave_ra_profile(const WaveMaterial& m, double entranceDeg,
+                                    const std::vector<double>& observationDeg, double lambdaNm,
+                                    const WaveMode& mode) {
+    check_material(m);
+    check_arguments(entranceDeg, observationDeg, lambdaNm, mode);
+    if (!(mode.pitch_spread >= 0.0 && mode.pitch_spread <= 0.5))
+        throw InputError("pitch_spread " + num(mode.pitch_spread) +
+                         ": expected a number in [0, 0.5]");
+    if (mode.pitch_spread == 0.0)
+        return one_pitch_profile(m, entranceDeg, observationDeg, lambdaNm, mode);
+    if (!(mode.pitch_nodes >= 1 && mode.pitch_nodes <= 1000))
+        throw InputError("pitch_nodes " + std::to_string(mode.pitch_nodes) +
+                         ": expected a whole number in [1, 1000]");
+    std::vector<double> ra(observationDeg.size(), 0.0);
+    double areas = 0;
+    for (int j = 0; j < mode.pitch_nodes; ++j) {
+        WaveMaterial mj = m;
+        mj.pitch_um =
+            m.pitch_um * (1.0 + mode.pitch_spread * (2.0 * (j + 0.5) / mode.pitch_nodes - 1.0));
+        const double area = mj.pitch_um * mj.pitch_um; // the cell's, up to a common factor
+        const std::vector<double> r =
+            one_pitch_profile(mj, entranceDeg, observationDeg, lambdaNm, mode);
+        for (size_t a = 0; a < ra.size(); ++a)
+            ra[a] += area * r[a];
+        areas += area;
+    }
+    for (double& v : ra)
+        v /= areas;
     return ra;
 }
 

@@ -907,15 +907,29 @@ TEST_CASE("R_A: the comparison table's cost and its photopic form", "[wave][ci]"
         obs.push_back(0.1 + 1.9 * i / 19.0);
     const auto t0 = std::chrono::steady_clock::now();
     double sum = 0;
+    std::vector<std::vector<double>> minus4;
     for (double pitch : {100.0, 250.0})
         for (double entrance : {-4.0, 20.0, 45.0})
             for (double lambda : {550.0, 905.0, 1550.0}) {
                 m.pitch_um = pitch;
-                for (double v : wave::wave_ra_profile(m, entrance, obs, lambda))
+                const std::vector<double> r = wave::wave_ra_profile(m, entrance, obs, lambda);
+                for (double v : r)
                     sum += v;
+                if (entrance == -4.0) minus4.push_back(r);
             }
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    // Entrance -4 deg at 0.2, 0.5, 1.0, 1.5 and 2.0 deg (obs[1], [4], [9], [14], [19]).
+    for (size_t k = 0; k < minus4.size(); ++k) {
+        const std::vector<double>& r = minus4[k];
+        std::printf("MEASURED: tir, pitch %3.0f um, %4.0f nm, entrance -4: R_A %8.4g %8.4g %8.4g "
+                    "%8.4g %8.4g at 0.2/0.5/1.0/1.5/2.0 deg\n",
+                    k < 3 ? 100.0 : 250.0,
+                    k % 3 == 0   ? 550.0
+                    : k % 3 == 1 ? 905.0
+                                 : 1550.0,
+                    r[1], r[4], r[9], r[14], r[19]);
+    }
     const std::vector<double> photopic =
         wave::wave_ra_profile_photometric(m, -4.0, {0.2, 0.33, 0.5, 1.0, 1.5});
     std::printf("MEASURED: 20 x 3 x 3 x 2 table in %.1f s on one core; photopic R_A (pitch 250 "
@@ -1025,4 +1039,48 @@ TEST_CASE("energy: the orientation average against the node's retro_fraction", "
     CHECK(worstIdeal < 1e-5);
     // Polarisation coupling (< 3%) and the metal's reflectance away from 54.74 deg (< 6%).
     CHECK(worstOther < 0.06);
+}
+
+TEST_CASE("R_A: a spread of pitches", "[wave]") {
+    // Prisms of pitch 150 um +- 15% by number: the cell-area-weighted mean of each pitch's R_A
+    // (checked against the profiles of the nodes themselves), converged in its node count, and
+    // smoother than one pitch's: the dark ring near 0.95 deg (one pitch: R_A there 0.43 of its
+    // value at 1.1 deg, where the profile should fall) fills in.
+    wave::WaveMaterial m;
+    const std::vector<double> obs = {0.5, 0.95, 1.1};
+    wave::WaveMode spread;
+    spread.pitch_spread = 0.15;
+    spread.pitch_nodes = 4;
+    const std::vector<double> r = wave::wave_ra_profile(m, -4.0, obs, 550.0, spread);
+    std::vector<double> manual(obs.size(), 0.0);
+    double areas = 0;
+    for (int j = 0; j < 4; ++j) {
+        wave::WaveMaterial mj = m;
+        mj.pitch_um = 150.0 * (1 + 0.15 * (2 * (j + 0.5) / 4 - 1));
+        const std::vector<double> rj = wave::wave_ra_profile(mj, -4.0, obs, 550.0);
+        for (size_t a = 0; a < obs.size(); ++a)
+            manual[a] += mj.pitch_um * mj.pitch_um * rj[a];
+        areas += mj.pitch_um * mj.pitch_um;
+    }
+    double worstManual = 0;
+    for (size_t a = 0; a < obs.size(); ++a)
+        worstManual = std::max(worstManual, std::abs(r[a] / (manual[a] / areas) - 1));
+    wave::WaveMode coarse = spread, fine = spread;
+    coarse.pitch_nodes = 16;
+    fine.pitch_nodes = 64;
+    const std::vector<double> c = wave::wave_ra_profile(m, -4.0, obs, 550.0, coarse);
+    const std::vector<double> f = wave::wave_ra_profile(m, -4.0, obs, 550.0, fine);
+    const std::vector<double> one = wave::wave_ra_profile(m, -4.0, obs, 550.0);
+    double worstNodes = 0;
+    for (size_t a = 0; a < obs.size(); ++a)
+        worstNodes = std::max(worstNodes, std::abs(c[a] / f[a] - 1));
+    const double dipOne = one[1] / one[2];
+    const double dipSpread = c[1] / c[2];
+    std::printf(
+        "MEASURED: pitch spread +-15%%: against its nodes' profiles %.1e; 16 / 64 nodes - 1 "
+        "worst %.1e; R_A(0.95) / R_A(1.1): one pitch %.3f, spread %.3f\n",
+        worstManual, worstNodes, dipOne, dipSpread);
+    CHECK(worstManual < 1e-12);
+    CHECK(worstNodes < 0.02);
+    CHECK(dipSpread > 1.5 * dipOne);
 }
