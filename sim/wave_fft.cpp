@@ -2,7 +2,6 @@
 // independent of the closed-form polygon transform (see wave_optics.h).
 #include <algorithm>
 #include <cmath>
-#include <memory>
 #include <mutex>
 
 #include <fftw3.h>

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "error.h"
@@ -13,8 +14,6 @@ namespace wave {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = kPi / 180.0;
 const cplx kI(0.0, 1.0);
 
 double cross2(const dvec2& a, const dvec2& b) {

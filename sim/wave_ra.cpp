@@ -2,6 +2,7 @@
 // observation azimuth, weighted over wavelengths (see wave_optics.h).
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "error.h"
