@@ -395,6 +395,21 @@ const std::vector<Row>& rows() {
         out.push_back(node_row<Float>("exact_dihedral", "exact", all3,
                                       "ideal prisms, dihedral error 5 arcmin, modes at run time",
                                       dihedral, dihedral, 7));
+        // Diffraction at the prisms (prism_pitch 160 um, docs/diffraction.md): at one wavelength
+        // (one pattern), per colour channel (three) and in the fast tier (9 tail scales instead
+        // of 17); at pitch 0 the fixed rows above leave its code out.
+        Params diffraction = ideal, diffractionRgb = ideal, diffractionFast = idealFast;
+        diffraction.prism_pitch = diffractionRgb.prism_pitch = diffractionFast.prism_pitch = 160.0;
+        diffraction.wavelength = diffractionFast.wavelength = 550.0;
+        out.push_back(node_row<Float>("exact_diffraction", "exact", all3,
+                                      "ideal prisms, pitch 160 um at 550 nm, modes at run time",
+                                      diffraction, diffraction, 7));
+        out.push_back(node_row<Float>("exact_diffraction_rgb", "exact", all3,
+                                      "ideal prisms, pitch 160 um per colour channel",
+                                      diffractionRgb, diffractionRgb, 7));
+        out.push_back(node_row<Float>("fast_diffraction", "fast", all3,
+                                      "ideal prisms, pitch 160 um at 550 nm, fast tier",
+                                      diffractionFast, diffraction, 7));
         baselines::LambertT<float> lambert;
         baselines::BeckmannCookTorranceT<float> ct;
         ct.roughness = 0.05f;

@@ -24,6 +24,7 @@
 #define RP_CORE_PRELUDE                                                                            \
     using std::abs;                                                                                \
     using std::acos;                                                                               \
+    using std::asin;                                                                               \
     using std::cos;                                                                                \
     using std::exp;                                                                                \
     using std::isnan;                                                                              \

@@ -258,7 +258,7 @@ f32::rp_material round_material<float>(const f64::rp_material& m) {
     r.spread2 = float(m.spread2);
     r.diffraction = m.diffraction;
     r.diff_scale = f32::vec3(m.diff_scale);
-    r.diff_coherence = float(m.diff_coherence);
+    r.diff_coherence = f32::vec2(m.diff_coherence);
     r.ap_e1 = f32::vec3(m.ap_e1);
     r.ap_e2 = f32::vec3(m.ap_e2);
     r.ap_e3 = f32::vec3(m.ap_e3);

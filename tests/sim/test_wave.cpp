@@ -1093,3 +1093,146 @@ TEST_CASE("R_A: a spread of pitches converges in its nodes", "[wave][ci]") {
     std::printf("MEASURED: pitch spread +-15%%: 16 / 48 nodes - 1 worst %.1e\n", worst);
     CHECK(worst < 0.02); // the midpoint rule's 1/N^2 over the rings' oscillation in pitch
 }
+
+// ---- The node's diffraction lobe against physical optics (docs/diffraction.md) ----------------
+
+namespace {
+
+// The coherent share c of the peak and the weight e of the inner edges in the tail of prisms
+// with faces `prism` against ideal faces', orientation-averaged (48 orientations over the
+// period) at the inner polar angle thetaTDeg: peak ratio = c + (1 - c) / 6, tail ratio =
+// 1 + e (P_sub - P) / P with the node's own aperture measures (rp_aperture_measures) summed over
+// the same orientations. False where no light reaches the direction from outside or none is
+// retroreflected.
+bool measured_coherence(int prism, double ior, double thetaTDeg, double& c, double& e) {
+    const double th = thetaTDeg * kDeg, si = ior * std::sin(th);
+    if (si >= 1.0) return false;
+    const dvec3 wi(si, 0, std::sqrt(1 - si * si)), dt(-si / ior, 0, -std::cos(th));
+    Params p;
+    p.prism_pitch = 1.0;
+    p.ior = ior;
+    const f64::rp_material node = retroprism::prepare_material(retroprism::sanitize(p));
+    double peakSum[2] = {0, 0}, energy[2] = {0, 0}, tailSum[2] = {0, 0};
+    glm::dvec4 measures(0.0);
+    const int n = 48;
+    for (int k = 0; k < n; ++k) {
+        const double psi = (k + 0.5) / n * 2 * kPi / 3;
+        for (int own : {0, 1}) {
+            wave::WaveMaterial m;
+            m.ior = ior;
+            m.pitch_um = 100;
+            m.prism_reflection = own == 1 ? prism : 0;
+            const wave::Pupil pupil =
+                wave::exit_pupil(m, sim::cube_corner(0.0, 0.0, psi), wi, 0.55);
+            if (pupil.orders.empty()) continue;
+            peakSum[own] += wave::FarField(pupil).ra(wi);
+            energy[own] += wave::pupil_energy(pupil);
+            tailSum[own] += wave::tail_constant(pupil);
+        }
+        const double cs = std::cos(psi), sn = std::sin(psi);
+        measures += f64::rp_aperture_measures(
+            node, dvec3(cs * dt.x + sn * dt.y, cs * dt.y - sn * dt.x, dt.z));
+    }
+    if (!(energy[1] > 1e-6 * energy[0]) || !(peakSum[0] > 0)) return false;
+    const double peak = (peakSum[1] / energy[1]) / (peakSum[0] / energy[0]);
+    const double tail = (tailSum[1] / energy[1]) / (tailSum[0] / energy[0]);
+    c = (peak - 1.0 / 6.0) / (5.0 / 6.0);
+    e = (tail - 1.0) * measures.z / (measures.w - measures.z);
+    return true;
+}
+
+} // namespace
+
+TEST_CASE("The node's coherence constants are the wave optics'", "[wave]") {
+    // Uncoated faces: the node's table over theta_t and ior (rp_diff_tir_coherence,
+    // rp_diff_tir_edges, written to 4 digits: within 1e-4 of a recomputation, so a change of
+    // the wave optics or of the node's measures shows here); directions no light reaches repeat
+    // the last reached. Metallised faces: the constants at normal incidence.
+    double worst = 0;
+    for (int row = 0; row < 4; ++row) {
+        const double ior = f64::RP_DIFF_TIR_ETA[row];
+        double c = 1, e = 0;
+        for (int k = 0; k < f64::RP_DIFF_TIR_NT; ++k) {
+            measured_coherence(1, ior, k * f64::RP_DIFF_TIR_STEP_DEG, c, e);
+            const int at = row * f64::RP_DIFF_TIR_NT + k;
+            worst = std::max({worst, std::abs(c - f64::rp_diff_tir_coherence[at]),
+                              std::abs(e - f64::rp_diff_tir_edges[at])});
+            if (k == 0)
+                std::printf("MEASURED: uncoated faces, ior %.3f, normal incidence: coherent share "
+                            "c = %.4f, inner-edge weight e = %.4f\n",
+                            ior, c, e);
+        }
+    }
+    double c = 0, e = 0;
+    REQUIRE(measured_coherence(2, 1.49, 0.0, c, e));
+    const glm::dvec2 metal = f64::rp_diffraction_coherence(f64::RP_PRISM_METALLIZED, 1.49);
+    std::printf("MEASURED: metallised faces, ior 1.49, normal incidence: c = %.4f, e = %.4f; the "
+                "uncoated table's largest difference from a recomputation %.1e\n",
+                c, e, worst);
+    CHECK(worst < 1e-4);
+    CHECK(std::abs(c - metal.x) < 1e-4);
+    CHECK(std::abs(e - metal.y) < 1e-4);
+}
+
+TEST_CASE("The node's diffraction lobe against physical optics: the R_A table", "[wave][ci]") {
+    // R_A of the prisms alone (a smooth top surface: the node at roughness 1e-4, whose geometric
+    // lobe is 0.004 deg wide) averaged over the observation azimuth, the node's retro lobe
+    // against the wave optics' orientation average with prisms of pitches spread +-15% (which
+    // fills the rings of one aperture size: docs/wave_optics.md), over observation 0.1-2 deg,
+    // entrance -4 to 45 deg, pitches 100 and 250 um, 550, 905 and 1550 nm, ideal and uncoated
+    // faces (ior 1.49). The table is printed; the assertions are the counts of entries within 10%
+    // and within a factor 2 (docs/diffraction.md quotes them).
+    const std::vector<double> observation = {0.1, 0.2, 0.33, 0.5, 0.7, 1.0, 1.5, 2.0};
+    const int nChi = 64;
+    long entries = 0, within10 = 0, within2x = 0;
+    double worst = 0;
+    for (int prism : {0, 1})
+        for (double pitch : {100.0, 250.0})
+            for (double nm : {550.0, 905.0, 1550.0})
+                for (double entrance : {-4.0, 15.0, 30.0, 45.0}) {
+                    wave::WaveMaterial wm;
+                    wm.ior = 1.49;
+                    wm.prism_reflection = prism;
+                    wm.pitch_um = pitch;
+                    wave::WaveMode mode;
+                    mode.pitch_spread = 0.15;
+                    const std::vector<double> truth =
+                        wave::wave_ra_profile(wm, entrance, observation, nm, mode);
+                    Params p;
+                    p.roughness = 1e-4;
+                    p.ior = 1.49;
+                    p.prism_reflection = prism;
+                    p.prism_pitch = pitch;
+                    p.wavelength = nm;
+                    p.specular = 0.0;
+                    p.diffuse_color = {0.0, 0.0, 0.0};
+                    const PrismaticRetroreflector<double> node(p);
+                    const dvec3 wi = entrance_wi(entrance);
+                    std::printf("MEASURED: node/wave R_A, %s, pitch %g um, %g nm, entrance %g:",
+                                prism == 0 ? "ideal" : "tir", pitch, nm, entrance);
+                    for (size_t a = 0; a < observation.size(); ++a) {
+                        double ra = 0;
+                        for (int j = 0; j < nChi; ++j) {
+                            const dvec3 wo = wave::observation_direction(
+                                wi, observation[a] * kDeg, 2 * kPi * (j + 0.5) / nChi);
+                            ra += node.f(wi, wo).retro.x * wi.z * wo.z / nChi;
+                        }
+                        const double ratio = ra / truth[a];
+                        std::printf(" %.2f", ratio);
+                        ++entries;
+                        within10 += std::abs(ratio - 1) <= 0.10;
+                        within2x += ratio >= 0.5 && ratio <= 2.0;
+                        worst = std::max(worst, std::abs(std::log(ratio)));
+                    }
+                    std::printf("\n");
+                }
+    std::printf("MEASURED: node against wave optics: %ld of %ld entries within 10%%, %ld within a "
+                "factor 2, worst factor %.2f\n",
+                within10, entries, within2x, std::exp(worst));
+    // Deterministic: measured 167 of 384 within 10% and 363 within a factor 2 (worst 5.1, at the
+    // ideal aperture's first dark ring, which the node's smooth pattern does not have). The
+    // target is 10% everywhere (docs/diffraction.md); these bounds keep what is reached from
+    // slipping back.
+    CHECK(within10 >= 167);
+    CHECK(within2x >= 363);
+}

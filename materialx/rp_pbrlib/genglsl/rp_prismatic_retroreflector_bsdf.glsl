@@ -1866,9 +1866,20 @@ const float RP_DIFF_CORE_WEIGHT = float(0.65);
 const float RP_DIFF_MAX_WIDTH2 = float(1.0);
 // The least share of the pattern's peak left to its core.
 const float RP_DIFF_MIN_CORE_PEAK = float(0.05);
-// The coherent share of uncoated and metallised prisms' face orders (rp_diffraction_coherence).
-const float RP_DIFF_COHERENCE_TIR = float(1.0);
-const float RP_DIFF_COHERENCE_METAL = float(1.0);
+// Uncoated and metallised prisms' face orders (rp_diffraction_coherence): the coherent share c
+// of the pattern's peak, and the weight of the edges between orders in its tail (0 for orders
+// that interfere as one aperture, 1 for orders that do not, more where neighbouring orders'
+// fields are nearly opposite). Measured by the wave-optics simulator (tests/sim/test_wave.cpp,
+// "The node's coherence constants", which recomputes them): metallised faces at normal
+// incidence, ior 1.49; uncoated faces, whose TIR phases depend on the index and the direction,
+// over theta_t = 0, 5, ..., 50 deg (RP_DIFF_TIR_NT) at ior RP_DIFF_TIR_ETA (rows of
+// rp_diff_tir_coherence and rp_diff_tir_edges; directions no light reaches from outside repeat
+// the last one that does).
+const float RP_DIFF_COHERENCE_METAL = float(0.9971);
+const float RP_DIFF_EDGES_METAL = float(0.0048);
+const int RP_DIFF_TIR_NT = 11;
+const float RP_DIFF_TIR_STEP_DEG = float(5.0);
+const vec4 RP_DIFF_TIR_ETA = vec4(float(1.40), float(1.49), float(1.586), float(1.70));
 // The 2D Cauchy law (1 + rho^2)^(-3/2) / (2 pi) is a Gaussian scale mixture, std 1 / |z| per axis
 // for z standard normal; its scales' density in ln s is 2 phi(1 / s) / s. The tail is that
 // mixture at scales a r_j, r_j = 2^(j / 2 - 2) (exact tier, 17) or 2^(j - 2) (fast tier, 9, every
@@ -1896,6 +1907,26 @@ const vec4 rp_diff_weight_fast_v4[3] = vec4[3](
     vec4(0.00870191324, 0.0, 0.0, 0.0));
 float rp_diff_weight_fast_at(int i) {
     return rp_diff_weight_fast_v4[i >> 2][i & 3];
+}
+const vec4 rp_diff_tir_coherence_v4[11] = vec4[11](
+    vec4(0.0641, 0.0618, 0.0494, 0.2023), vec4(0.4414, 0.6948, 0.8091, 0.7889),
+    vec4(0.9775, 0.9952, 0.9952, 0.1425), vec4(0.1481, 0.1545, 0.2236, 0.4568),
+    vec4(0.6949, 0.7716, 0.645, 0.9708), vec4(0.9708, 0.9708, 0.2041, 0.2139),
+    vec4(0.2377, 0.2433, 0.4476, 0.6888), vec4(0.7654, 0.5687, 0.5687, 0.5687),
+    vec4(0.5687, 0.258, 0.2705, 0.3044), vec4(0.3433, 0.41, 0.668, 0.7616),
+    vec4(0.533, 0.533, 0.533, 0.533));
+float rp_diff_tir_coherence_at(int i) {
+    return rp_diff_tir_coherence_v4[i >> 2][i & 3];
+}
+const vec4 rp_diff_tir_edges_v4[11] = vec4[11](
+    vec4(1.2015, 1.1855, 1.13, 0.9008), vec4(0.6012, 0.3416, 0.2158, 0.5613),
+    vec4(0.0222, 0.0047, 0.0047, 1.1106), vec4(1.0892, 1.0348, 0.8845, 0.5974),
+    vec4(0.3669, 0.2891, 1.2328, 0.0328), vec4(0.0328, 0.0328, 1.0385, 1.0139),
+    vec4(0.9473, 0.8686, 0.6049, 0.3744), vec4(0.2986, 1.2795, 1.2795, 1.2795),
+    vec4(1.2795, 0.9748, 0.9481, 0.8741), vec4(0.7735, 0.631, 0.3861, 0.2974),
+    vec4(1.1068, 1.1068, 1.1068, 1.1068));
+float rp_diff_tir_edges_at(int i) {
+    return rp_diff_tir_edges_v4[i >> 2][i & 3];
 }
 const float RP_DIFF_TAIL_PEAK = float(1.0105685362618568);
 const float RP_DIFF_TAIL_PEAK_FAST = float(1.0239460533292488);
@@ -1938,8 +1969,8 @@ struct rp_material {
     int diffraction;     // 0: geometric optics (prism_pitch 0); 1: the aperture's diffraction
     vec3 diff_scale;     // diffraction: lambda / pitch of each channel (rad per unit of the
                          // pattern's coordinate nu = Delta s pitch / lambda)
-    float diff_coherence; // diffraction: the share of the six face orders' light that interferes
-                         // as one aperture (docs/diffraction.md)
+    vec2 diff_coherence; // diffraction: the coherent share of the face orders' peak, and the
+                         // weight of the edges between orders (rp_diffraction_coherence)
     vec3 ap_e1;          // diffraction: the face normals e_k at orientation 0 (local frame)
     vec3 ap_e2;
     vec3 ap_e3;
@@ -2765,14 +2796,39 @@ float rp_dispersed_ior(float nD, float abbe, float wavelengthNm) {
                  float(1.0), float(3.0));
 }
 
-// The share of the retroreflected light whose six face orders interfere as one aperture: 1 for
-// ideal faces (the reflections change no polarisation), less where the faces' Fresnel phases give
-// the orders different polarisation states (docs/diffraction.md: measured by the wave-optics
-// simulator at normal incidence).
-float rp_diffraction_coherence(int prismReflection) {
-    if (prismReflection == RP_PRISM_TIR) return RP_DIFF_COHERENCE_TIR;
-    if (prismReflection == RP_PRISM_METALLIZED) return RP_DIFF_COHERENCE_METAL;
-    return float(1.0);
+// Uncoated faces' (c, e) at the inner polar angle thetaTDeg and index eta: bilinear in the
+// table (eta clamped to its rows).
+vec2 rp_diffraction_coherence_tir(float thetaTDeg, float eta) {
+    float x = clamp(thetaTDeg / RP_DIFF_TIR_STEP_DEG, float(0.0), float(RP_DIFF_TIR_NT - 1));
+    int i = min(int(x), RP_DIFF_TIR_NT - 2);
+    float fx = x - float(i);
+    int j = 0;
+    float fy = float(0.0);
+    if (eta >= RP_DIFF_TIR_ETA.w) {
+        j = 2;
+        fy = float(1.0);
+    } else if (eta > RP_DIFF_TIR_ETA.x) {
+        j = eta < RP_DIFF_TIR_ETA.y ? 0 : (eta < RP_DIFF_TIR_ETA.z ? 1 : 2);
+        fy = (eta - RP_DIFF_TIR_ETA[j]) / (RP_DIFF_TIR_ETA[j + 1] - RP_DIFF_TIR_ETA[j]);
+    }
+    int a = j * RP_DIFF_TIR_NT + i;
+    int b = a + RP_DIFF_TIR_NT;
+    float c = mix(mix(rp_diff_tir_coherence_at(a), rp_diff_tir_coherence_at(a + 1), fx),
+                 mix(rp_diff_tir_coherence_at(b), rp_diff_tir_coherence_at(b + 1), fx), fy);
+    float e = mix(mix(rp_diff_tir_edges_at(a), rp_diff_tir_edges_at(a + 1), fx),
+                 mix(rp_diff_tir_edges_at(b), rp_diff_tir_edges_at(b + 1), fx), fy);
+    return vec2(c, e);
+}
+
+// How the six face orders interfere at normal incidence (rp_diffraction_setup takes uncoated
+// faces' at the incident direction): x the coherent share of the pattern's peak, y the weight of
+// the edges between orders in its tail; ideal faces' reflections change no polarisation, so their
+// orders interfere as one aperture.
+vec2 rp_diffraction_coherence(int prismReflection, float eta) {
+    if (prismReflection == RP_PRISM_TIR) return rp_diffraction_coherence_tir(float(0.0), eta);
+    if (prismReflection == RP_PRISM_METALLIZED)
+        return vec2(RP_DIFF_COHERENCE_METAL, RP_DIFF_EDGES_METAL);
+    return vec2(float(1.0), float(0.0));
 }
 
 // The aperture of the material's cube corner for the diffraction lobe: its face normals and
@@ -2783,7 +2839,7 @@ void rp_prepare_diffraction(inout rp_material m, float pitchUm, float wavelength
     m.diffraction = 1;
     vec3 lam = wavelengthNm > float(0.0) ? vec3(wavelengthNm * float(0.001)) : RP_CHANNEL_WAVELENGTHS;
     m.diff_scale = lam / pitchUm;
-    m.diff_coherence = rp_diffraction_coherence(m.prism_reflection);
+    m.diff_coherence = rp_diffraction_coherence(m.prism_reflection, m.eta);
     // The paper's cube: faces at the vertex azimuths 0 and +-120 degrees (MODEL.md section 2).
     float third = float(2.0) * RP_PI / float(3.0);
     vec3 fz = vec3(RP_INV_SQRT3);
@@ -2907,7 +2963,7 @@ rp_material rp_prepare(float weight, vec3 diffuseColor, vec3 retroColor, float s
     }
     m.diffraction = 0;
     m.diff_scale = vec3(float(0.0));
-    m.diff_coherence = float(1.0);
+    m.diff_coherence = vec2(float(1.0), float(0.0));
     m.ap_e1 = vec3(float(0.0));
     m.ap_e2 = vec3(float(0.0));
     m.ap_e3 = vec3(float(0.0));
@@ -3093,8 +3149,9 @@ vec4 rp_aperture_measures(in rp_material m, vec3 d) {
 
 // The diffraction pattern of the prisms for the incident state s (docs/diffraction.md), summed
 // over the orientations of the ERA mode, each prism weighted by its aperture's area: the share
-// c = m.diff_coherence interferes over the whole aperture (peak A^2, edges P), the rest over each
-// face order alone (six equal orders: peak A^2 / 6; edges P_sub). The pattern, a density of
+// c = m.diff_coherence.x of the peak interferes over the whole aperture (A^2), the rest over each
+// face order alone (six equal orders: A^2 / 6); the tail's edges are the aperture's, P, and the
+// edges between orders weighted by m.diff_coherence.y, P + y (P_sub - P). The pattern, a density of
 // nu = Delta s pitch / lambda with Delta s the offset of wo's sheet-plane components from the
 // retro direction's, is modelled as a Gaussian core of weight RP_DIFF_CORE_WEIGHT plus a Cauchy
 // law (1 + rho^2 / a^2)^(-3/2) a^-2 / (2 pi) of the rest, with the peak sum A^2 / (sum A lambda^2)
@@ -3126,9 +3183,14 @@ void rp_diffraction_setup(in rp_material m, inout rp_incident s, float sinThetaI
         sum += rp_aperture_measures(m, d);
     }
     if (!(sum.x > float(0.0))) return;
-    float coh = m.diff_coherence;
-    float peak = (coh + (float(1.0) - coh) / float(6.0)) * sum.y / sum.x;
-    float slope = (coh * sum.z + (float(1.0) - coh) * sum.w) / (float(2.0) * RP_PI * RP_PI * sum.x);
+    // Uncoated faces: the orders' coherence at this direction.
+    vec2 ce = m.diff_coherence;
+    if (m.prism_reflection == RP_PRISM_TIR) {
+        float sinT = min(sqrt(s.dt.x * s.dt.x + s.dt.y * s.dt.y), float(1.0));
+        ce = rp_diffraction_coherence_tir(asin(sinT) * (float(180.0) / RP_PI), m.eta);
+    }
+    float peak = (ce.x + (float(1.0) - ce.x) / float(6.0)) * sum.y / sum.x;
+    float slope = (sum.z + ce.y * (sum.w - sum.z)) / (float(2.0) * RP_PI * RP_PI * sum.x);
     float w = RP_DIFF_CORE_WEIGHT;
     float a = slope / (float(1.0) - w);
     float tailPeak = m.fidelity == RP_FIDELITY_FAST ? RP_DIFF_TAIL_PEAK_FAST : RP_DIFF_TAIL_PEAK;
