@@ -1,9 +1,11 @@
 #include "retroprism_closure.h"
 
+#include <cstring>
 #include <deque>
-#include <map>
 #include <mutex>
-#include <vector>
+#include <shared_mutex>
+#include <string>
+#include <unordered_map>
 
 namespace retroprism::osl {
 
@@ -54,7 +56,7 @@ Params to_params(const ClosureParams& c) {
 namespace {
 
 // The material of a closure: its sanitized inputs with the default frame (the frame is the
-// shading point's), and the same values as a cache key (NaN inputs already replaced).
+// shading point's).
 Params material_params(const ClosureParams& c) {
     Params p = to_params(c);
     const Params defaults;
@@ -63,32 +65,54 @@ Params material_params(const ClosureParams& c) {
     return sanitize(p);
 }
 
-std::vector<double> material_key(const Params& p) {
-    std::vector<double> key;
-    for_each_input(p, [&](const ParamInfo&, const auto& v) {
-        using T = std::decay_t<decltype(v)>;
-        if constexpr (std::is_same_v<T, Color3>)
-            key.insert(key.end(), v.begin(), v.end());
-        else
-            key.push_back(double(v));
-    });
-    return key;
+// The closure's inputs as they arrive, the vectors zeroed: compared as bytes (the struct's
+// members are all 4-byte floats and ints: no padding). Inputs that sanitize to the same material
+// (out of range, NaN, -0) may have different keys, and then nodes of their own.
+ClosureParams material_key(const ClosureParams& c) {
+    ClosureParams k = c;
+#define RP_FLOAT(name, def, lo, hi, doc)
+#define RP_COLOR(name, r, g, b, doc)
+#define RP_ENUM(name, def, values, doc)
+#define RP_VECTOR(name, dx, dy, dz, geomprop, doc) k.name = OSL::Vec3(0.0f);
+#define RP_BOOL(name, def, doc)
+#include "prismatic_retroreflector_params.def"
+#undef RP_FLOAT
+#undef RP_COLOR
+#undef RP_ENUM
+#undef RP_VECTOR
+#undef RP_BOOL
+    return k;
 }
 
+std::string key_bytes(const ClosureParams& k) {
+    return std::string(reinterpret_cast<const char*>(&k), sizeof k);
+}
+
+// The nodes made, by key: each thread first tries the material of its last lookup (consecutive
+// shading points mostly share one), then the shared table under a reader's lock.
 class MaterialCache {
   public:
     std::shared_ptr<const Node> get(const ClosureParams& c) {
-        const Params p = material_params(c);
-        const std::vector<double> key = material_key(p);
+        thread_local ClosureParams lastKey;
+        thread_local std::shared_ptr<const Node> lastNode;
+        const ClosureParams key = material_key(c);
+        if (lastNode && std::memcmp(&key, &lastKey, sizeof key) == 0) return lastNode;
+        lastNode = find_or_make(key_bytes(key), c);
+        lastKey = key;
+        return lastNode;
+    }
+
+  private:
+    std::shared_ptr<const Node> find_or_make(const std::string& key, const ClosureParams& c) {
         {
-            std::lock_guard<std::mutex> lock(mutex_);
+            std::shared_lock<std::shared_mutex> lock(mutex_);
             auto it = nodes_.find(key);
             if (it != nodes_.end()) return it->second;
         }
         // Made outside the lock: another thread may make the same node meanwhile; the first
         // one kept wins.
-        auto node = std::make_shared<const Node>(p);
-        std::lock_guard<std::mutex> lock(mutex_);
+        auto node = std::make_shared<const Node>(material_params(c));
+        std::unique_lock<std::shared_mutex> lock(mutex_);
         auto [it, inserted] = nodes_.emplace(key, node);
         if (inserted) {
             order_.push_back(key);
@@ -100,10 +124,9 @@ class MaterialCache {
         return it->second;
     }
 
-  private:
-    std::mutex mutex_;
-    std::map<std::vector<double>, std::shared_ptr<const Node>> nodes_;
-    std::deque<std::vector<double>> order_; // keys in the order made, oldest first
+    std::shared_mutex mutex_;
+    std::unordered_map<std::string, std::shared_ptr<const Node>> nodes_;
+    std::deque<std::string> order_; // keys in the order made, oldest first
 };
 
 } // namespace

@@ -66,10 +66,11 @@ void register_retroprism_closure(OSL::ShadingSystem& shadingSystem, int id);
 // The node's inputs from the closure's, vectors included.
 Params to_params(const ClosureParams& c);
 
-// The node of a material (float precision, default frame): built once per distinct sanitized
-// parameters, normal and tangent aside, and kept; the last kMaterialCacheEntries materials made
-// are kept, so that a shading point costs a lookup, not a node (whose azimuth series take up to
-// 50 ms to make). Thread-safe.
+// The node of a material (float precision, default frame): built once per distinct inputs,
+// normal and tangent aside, and kept; the last kMaterialCacheEntries materials made are kept, so
+// that a shading point costs a lookup (each thread keeps its last material: tens of ns when
+// consecutive points share it), not a node (whose azimuth series take up to 50 ms to make).
+// Thread-safe.
 using Node = PrismaticRetroreflector<float>;
 std::shared_ptr<const Node> material_node(const ClosureParams& c);
 constexpr int kMaterialCacheEntries = 256;

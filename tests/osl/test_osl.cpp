@@ -256,6 +256,33 @@ TEST_CASE("the closure through liboslexec equals the C++ node: eval, pdf and sam
     CHECK(otherSide > samples / 10);
 }
 
+TEST_CASE("the closure's node is made once per material, whatever the shading frame", "[osl]") {
+    // Closure parameters as a shader passes them: the sweep's corners through liboslexec.
+    const std::vector<rptest::Corner> corners = rptest::parameter_corners();
+    auto closure_of = [](const Params& p) {
+        const ShadedClosure s = shade(p);
+        const auto comps = retroprism_components(s.components);
+        REQUIRE(comps.size() == 1);
+        return *static_cast<const osl::ClosureParams*>(comps[0].params);
+    };
+    const osl::ClosureParams a = closure_of(corners[5].params);
+    const osl::ClosureParams b = closure_of(corners[17].params);
+    const auto nodeA = osl::material_node(a);
+    CHECK(nodeA != osl::material_node(b));
+    // Another frame, the same material: the same node, from the thread's last lookup and from
+    // the shared table.
+    osl::ClosureParams turned = a;
+    turned.normal = OSL::Vec3(0.3f, 0.1f, 0.9f);
+    turned.tangent = OSL::Vec3(0.0f, 1.0f, 0.0f);
+    CHECK(osl::material_node(turned) == nodeA);
+    CHECK(osl::material_node(b) != nodeA);
+    CHECK(osl::material_node(turned) == nodeA);
+    // Its values: the node of the material, in the shading point's frame.
+    const osl::RetroprismBsdf bsdf(turned);
+    CHECK(&bsdf.node() == nodeA.get());
+    CHECK(bsdf.node().params().normal == Params().normal);
+}
+
 TEST_CASE("every input of the closure changes its value through liboslexec", "[osl]") {
     // A base where every input matters: metallised prisms in one orientation, with dihedral
     // errors, a cant and the anisotropic lobe; each input moved alone to another value.
