@@ -38,6 +38,56 @@ struct NoParams {
     int unused;
 };
 
+// The parameters of stdosl.h's MaterialX closures (OSL 1.13) that the bundled documents call.
+struct OrenNayarParams {
+    OSL::Vec3 N;
+    OSL::Color3 albedo;
+    float roughness;
+};
+struct DielectricParams {
+    OSL::Vec3 N, U;
+    OSL::Color3 reflection_tint, transmission_tint;
+    float roughness_x, roughness_y, ior;
+    OSL::ustring distribution;
+    float thinfilm_thickness, thinfilm_ior;
+};
+struct LayerParams {
+    const OSL::ClosureColor* top;
+    const OSL::ClosureColor* base;
+};
+
+void register_materialx_closures(OSL::ShadingSystem& system) {
+    using OSL::TypeColor;
+    using OSL::TypeDesc;
+    using OSL::TypeFloat;
+    using OSL::TypeString;
+    using OSL::TypeVector;
+    static const OSL::ClosureParam noParams[] = {CLOSURE_FINISH_PARAM(NoParams)};
+    system.register_closure("transparent", kTransparentClosureId, noParams, nullptr, nullptr);
+    static const OSL::ClosureParam orenNayar[] = {
+        CLOSURE_VECTOR_PARAM(OrenNayarParams, N), CLOSURE_COLOR_PARAM(OrenNayarParams, albedo),
+        CLOSURE_FLOAT_PARAM(OrenNayarParams, roughness), CLOSURE_FINISH_PARAM(OrenNayarParams)};
+    system.register_closure("oren_nayar_diffuse_bsdf", kOrenNayarClosureId, orenNayar, nullptr,
+                            nullptr);
+    static const OSL::ClosureParam dielectric[] = {
+        CLOSURE_VECTOR_PARAM(DielectricParams, N),
+        CLOSURE_VECTOR_PARAM(DielectricParams, U),
+        CLOSURE_COLOR_PARAM(DielectricParams, reflection_tint),
+        CLOSURE_COLOR_PARAM(DielectricParams, transmission_tint),
+        CLOSURE_FLOAT_PARAM(DielectricParams, roughness_x),
+        CLOSURE_FLOAT_PARAM(DielectricParams, roughness_y),
+        CLOSURE_FLOAT_PARAM(DielectricParams, ior),
+        CLOSURE_STRING_PARAM(DielectricParams, distribution),
+        CLOSURE_FLOAT_KEYPARAM(DielectricParams, thinfilm_thickness, "thinfilm_thickness"),
+        CLOSURE_FLOAT_KEYPARAM(DielectricParams, thinfilm_ior, "thinfilm_ior"),
+        CLOSURE_FINISH_PARAM(DielectricParams)};
+    system.register_closure("dielectric_bsdf", kDielectricClosureId, dielectric, nullptr, nullptr);
+    static const OSL::ClosureParam layer[] = {CLOSURE_CLOSURE_PARAM(LayerParams, top),
+                                              CLOSURE_CLOSURE_PARAM(LayerParams, base),
+                                              CLOSURE_FINISH_PARAM(LayerParams)};
+    system.register_closure("layer", kLayerClosureId, layer, nullptr, nullptr);
+}
+
 } // namespace
 
 // Every named space is common space, and every object's transformation the identity.
@@ -66,9 +116,7 @@ ShaderRunner::ShaderRunner()
     : services_(std::make_unique<Services>()),
       system_(std::make_unique<OSL::ShadingSystem>(services_.get(), nullptr, &messages())) {
     register_retroprism_closure(*system_, kRetroprismClosureId);
-    using OSL::TypeDesc;
-    static const OSL::ClosureParam noParams[] = {CLOSURE_FINISH_PARAM(NoParams)};
-    system_->register_closure("transparent", kTransparentClosureId, noParams, nullptr, nullptr);
+    register_materialx_closures(*system_);
     thread_ = system_->create_thread_info();
     context_ = system_->get_context(thread_);
 }
@@ -90,6 +138,10 @@ void ShaderRunner::compile(const std::string& name, const std::string& source,
         throw std::runtime_error("oslc: " + name + ": " + messages().take());
     if (!system_->LoadMemoryCompiledShader(name, oso))
         throw std::runtime_error("liboslexec: " + name + ": " + messages().take());
+}
+
+void ShaderRunner::set_texture_searchpath(const std::string& folders) {
+    system_->texturesys()->attribute("searchpath", folders);
 }
 
 ShaderRunner::Group ShaderRunner::group(const std::string& name,
@@ -129,6 +181,11 @@ void flatten(const OSL::ClosureColor* c, const OSL::Color3& w, std::vector<Compo
     } else {
         const OSL::ClosureComponent* comp = c->as_comp();
         out.push_back({comp->id, w * comp->w, comp->data()});
+        if (comp->id == kLayerClosureId) {
+            const LayerParams* layer = comp->as<LayerParams>();
+            flatten(layer->top, w * comp->w, out);
+            flatten(layer->base, w * comp->w, out);
+        }
     }
 }
 
@@ -142,6 +199,8 @@ std::vector<Component> ShaderRunner::shade(const Group& group, const ShadingPoin
     sg.I = point.I;
     sg.dPdu = point.dPdu;
     sg.dPdv = point.N.cross(point.dPdu);
+    sg.u = point.u;
+    sg.v = point.v;
     sg.renderer = system_->renderer();
     sg.object2common = sg.shader2common = &identity;
     sg.surfacearea = 1.0f;

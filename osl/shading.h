@@ -1,9 +1,12 @@
 // shading.h: shaders run through liboslexec as a renderer runs them, on a minimal renderer: a
-// shading system with the retroprism_bsdf closure registered (and `transparent`, which
-// MaterialX's surfacematerial emits), shaders compiled in process by liboslcomp (what oslc
-// runs), executed one shading point at a time, their closure trees flattened into weighted
-// components. Every space (common, world, object, shader) is the same: the scene's objects are
-// untransformed. One thread.
+// shading system with the retroprism_bsdf closure registered, and the closures of OSL's stdosl.h
+// that MaterialX's OSL of the bundled documents calls (transparent, which its surfacematerial
+// emits; oren_nayar_diffuse_bsdf, dielectric_bsdf, layer); shaders compiled in process by
+// liboslcomp (what oslc runs), executed one shading point at a time, their closure trees
+// flattened into weighted components. Only retroprism_bsdf is evaluated (RetroprismBsdf): the
+// others are read as components, a layer as its two closures, its base's weight not attenuated
+// by the top (OSL leaves layering to the renderer). Every space (common, world, object, shader)
+// is the same: the scene's objects are untransformed. One thread.
 #pragma once
 
 #include <memory>
@@ -18,6 +21,9 @@ namespace retroprism::osl {
 // The closure ids this renderer registers.
 constexpr int kRetroprismClosureId = 1;
 constexpr int kTransparentClosureId = 2;
+constexpr int kOrenNayarClosureId = 3;
+constexpr int kDielectricClosureId = 4;
+constexpr int kLayerClosureId = 5;
 
 // A leaf of a closure tree with the product of the weights above it. `params` points into the
 // shading context's closure memory: valid until the next shade().
@@ -36,9 +42,10 @@ struct ParamValue {
 };
 
 // A shading point: position, shading normal, the incoming ray's direction (I, toward the
-// surface) and the surface's tangent dPdu.
+// surface), the surface's tangent dPdu and its texture coordinates.
 struct ShadingPoint {
     OSL::Vec3 P{0.0f}, N{0.0f, 0.0f, 1.0f}, I{0.0f, 0.0f, -1.0f}, dPdu{1.0f, 0.0f, 0.0f};
+    float u = 0.0f, v = 0.0f;
 };
 
 class ShaderRunner {
@@ -67,6 +74,9 @@ class ShaderRunner {
     // Executes the group at one point; the leaves of its closure (empty when the shader made
     // none). Throws when execution fails.
     std::vector<Component> shade(const Group& group, const ShadingPoint& point);
+
+    // Where the texture system looks for relative file names (OpenImageIO's "searchpath").
+    void set_texture_searchpath(const std::string& folders);
 
     OSL::ShadingSystem& shading_system() { return *system_; }
 
