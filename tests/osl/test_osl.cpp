@@ -1,9 +1,11 @@
 // [osl] The node as an Open Shading Language closure (osl/), run through liboslexec: the
-// generated shader osl/shaders/retroprism_bsdf.osl compiled by liboslcomp, its closure
+// generated shader osl/shaders/retroprism_bsdf.osl compiled by oslc and liboslcomp, its closure
 // registered by register_retroprism_closure and read back from the closure tree, against the
-// C++ node; a direct-lighting render's R_A against the C++ R_A table; the OSL that real
-// MaterialX generates with the opt-in library materialx/rp_pbrlib_closure, compiled and
-// rendered against the same table. Built where OSL is found (tests/CMakeLists.txt).
+// C++ node; every input changing it; the node made once per material; a direct-lighting render's
+// R_A against the C++ R_A table; the OSL that real MaterialX generates with the opt-in library
+// materialx/rp_pbrlib_closure for every bundled document, compiled, and rendered against the
+// same table (the node's chain) or run over its texture (a graph). Built where OSL is found
+// (tests/CMakeLists.txt); docs/osl.md quotes the figures.
 #include <catch2/catch.hpp>
 
 #include <unistd.h>
