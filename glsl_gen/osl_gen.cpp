@@ -2,7 +2,6 @@
 
 #include <cstdio>
 #include <set>
-#include <sstream>
 #include <stdexcept>
 
 #include "prismatic_retroreflector.h"
@@ -11,7 +10,8 @@ namespace retroprism::glsl {
 
 namespace {
 
-// OSL's keywords and reserved words (OSL Language Specification 1.13, section 4.3).
+// OSL's keywords and reserved words ("Keywords and reserved words", OSL Language Specification,
+// OSL 1.13).
 const std::set<std::string>& osl_reserved() {
     static const std::set<std::string> words = {
         "and",     "break",   "closure",  "color",    "continue",    "do",         "else",
