@@ -17,16 +17,16 @@ namespace {
 class Messages : public OIIO::ErrorHandler {
   public:
     void operator()(int errcode, const std::string& msg) override {
-        if (errcode >= EH_WARNING) text += msg + (msg.empty() || msg.back() != '\n' ? "\n" : "");
+        if (errcode >= EH_WARNING) text_ += msg + (msg.empty() || msg.back() != '\n' ? "\n" : "");
     }
     std::string take() {
         std::string t;
-        t.swap(text);
+        t.swap(text_);
         return t;
     }
 
   private:
-    std::string text;
+    std::string text_;
 };
 
 Messages& messages() {
