@@ -27,7 +27,8 @@ namespace {
                 vec3(p.retro_color[0], p.retro_color[1], p.retro_color[2]), real(p.specular),      \
                 real(p.roughness), real(p.ior), p.prism_reflection, real(p.metal_reflectance),     \
                 p.era_mode, real(p.orientation), real(p.cant_angle), real(p.dihedral_error),       \
-                real(p.dihedral_spread), p.retro_lobe, p.reciprocal ? 1 : 0, p.fidelity);          \
+                real(p.dihedral_spread), real(p.prism_pitch), real(p.abbe_number),                 \
+                real(p.wavelength), p.retro_lobe, p.reciprocal ? 1 : 0, p.fidelity);               \
         }                                                                                          \
     };
 

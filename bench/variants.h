@@ -9,6 +9,7 @@
     using real = float;                                                                            \
     using vec2 = glm::vec2;                                                                        \
     using vec3 = glm::vec3;                                                                        \
+    using vec4 = glm::vec4;                                                                        \
     RP_CORE_PRELUDE
 
 // A variant that leaves a lobe out leaves some of the core's parameters and locals unused.

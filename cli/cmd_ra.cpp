@@ -32,13 +32,17 @@ int cmd_ra(int argc, const char** argv) {
              "to the observation axis in the same plane, the observer keeping its side of the "
              "source; rotation epsilon turns the sample about its normal)")
         .usage("retroprism ra [--material FILE.json | --document DOC.mtlx [--name NAME]] "
-               "[--rotation DEG] [--csv] [--rgb] [--table TABLE.csv]");
+               "[--rotation DEG] [--wavelength NM] [--csv] [--rgb] [--table TABLE.csv]");
     ap.arg("--material FILE").help("node inputs as a JSON object (default: all defaults)");
     ap.arg("--document FILE").help("a MaterialX document (.mtlx) instead of --material");
     ap.arg("--name NAME").help("the material of the document (default: its first)");
     ap.arg("--rotation DEG")
         .help("rotation angle epsilon of the sample about its normal (default 0)")
         .defaultval("0");
+    ap.arg("--wavelength NM")
+        .help("evaluate every channel at this wavelength in nm (the material's `wavelength` "
+              "input: the diffraction of prism_pitch and, with abbe_number, the index), in "
+              "(0, 2000]");
     ap.arg("--csv").help("CSV on standard output (Y and R, G, B per row)").store_true();
     ap.arg("--rgb").help("text: also the R, G and B tables").store_true();
     ap.arg("--table FILE")
@@ -64,6 +68,13 @@ int cmd_ra(int argc, const char** argv) {
         std::string materialName;
         p = document_params(doc, name, &materialName);
         label = "material \"" + materialName + "\" of " + doc;
+    }
+    const std::string nm = ap["wavelength"].get<std::string>();
+    if (!nm.empty()) {
+        p.wavelength = parse_number(nm, "--wavelength");
+        if (!(p.wavelength > 0.0 && p.wavelength <= 2000.0))
+            throw InputError("--wavelength " + nm + " is outside (0, 2000] nm");
+        label += " at " + nm + " nm";
     }
     const std::string tableFile = ap["table"].get<std::string>();
     if (!tableFile.empty()) {

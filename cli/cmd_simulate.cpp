@@ -2,7 +2,8 @@
 // MODEL.md section 6) as a command: the tabulated BRDF per lobe with standard errors for a set of
 // incident directions, as EXR and JSON (sim/brdf_table.h, report/brdf_table_files.h); and
 // `retroprism simulate --study`, the accuracy study (sim/study.h), which regenerates
-// docs/accuracy.md from its template, its plots and results.csv (report/accuracy_report.h).
+// docs/accuracy.md from its template, its plots and results.csv (report/accuracy_report.h); and
+// `retroprism simulate --wave` (cmd_simulate_wave.cpp).
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -247,11 +248,14 @@ int study_command(int argc, const char** argv) {
 int cmd_simulate(int argc, const char** argv) {
     for (int i = 1; i < argc; ++i)
         if (std::strcmp(argv[i], "--study") == 0) return study_command(argc, argv);
+    for (int i = 1; i < argc; ++i)
+        if (std::strcmp(argv[i], "--wave") == 0) return simulate_wave_command(argc, argv);
     OIIO::ArgParse ap;
     ap.intro("retroprism simulate: the microgeometry Monte Carlo (MODEL.md section 6): the "
              "tabulated BRDF per lobe with standard errors for each incident direction, as "
              "PREFIX_thetaDEG.exr (one part per grid) and PREFIX.json. `retroprism simulate "
-             "--study --help` describes the accuracy study.")
+             "--study --help` describes the accuracy study, `retroprism simulate --wave --help` "
+             "the physical-optics R_A.")
         .usage("retroprism simulate [--material FILE.json] --theta-i DEG... [--phi-i DEG] "
                "[--rays N] [--seed S] [--threads T] [--way-up prisms|direct] [--out PREFIX]");
     ap.arg("--material FILE").help("node inputs as a JSON object (default: all defaults)");

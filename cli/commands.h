@@ -15,6 +15,8 @@ int cmd_check(int argc, const char** argv);
 int cmd_export(int argc, const char** argv);
 int cmd_bench(int argc, const char** argv);
 int cmd_simulate(int argc, const char** argv);
+// `simulate --wave` (cmd_simulate_wave.cpp).
+int simulate_wave_command(int argc, const char** argv);
 int cmd_render(int argc, const char** argv);
 int cmd_ra(int argc, const char** argv);
 int cmd_fit(int argc, const char** argv);

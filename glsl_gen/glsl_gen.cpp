@@ -25,21 +25,11 @@ const char* const kFidelityNames[] = {"exact", "fast"};
 const char* const kFidelityConst[] = {"RP_FIDELITY_EXACT", "RP_FIDELITY_FAST"};
 
 const std::set<std::string>& known_features() {
-    static const std::set<std::string> names = {"surface",
-                                                "retro",
-                                                "diffuse",
-                                                "era_averaged",
-                                                "era_matched_pair",
-                                                "era_oriented",
-                                                "prism_ideal",
-                                                "prism_tir",
-                                                "prism_metallized",
-                                                "fidelity_exact",
-                                                "fidelity_fast",
-                                                "canted",
-                                                "dihedral",
-                                                "node",
-                                                "cpp"};
+    static const std::set<std::string> names = {
+        "surface",          "retro",          "diffuse",       "era_averaged",
+        "era_matched_pair", "era_oriented",   "prism_ideal",   "prism_tir",
+        "prism_metallized", "fidelity_exact", "fidelity_fast", "canted",
+        "dihedral",         "diffraction",    "node",          "cpp"};
     return names;
 }
 
@@ -252,6 +242,7 @@ std::string entry_point(const Variant& v) {
         fixed += "    fidelity = " + std::string(kFidelityConst[v.fidelity]) + ";\n";
     if (!v.canted) fixed += "    cant_angle = 0.0;\n";
     if (!v.dihedral) fixed += "    dihedral_error = 0.0;\n    dihedral_spread = 0.0;\n";
+    if (!v.diffraction) fixed += "    prism_pitch = 0.0;\n";
     // The inputs in table order, as GLSL parameters and as arguments.
     std::string inputs = entry_signature();
     inputs = inputs.substr(0, inputs.find("vec3 wi,"));
@@ -274,7 +265,8 @@ std::string entry_point(const Variant& v) {
            "    rp_make_frame(normal, tangent, fN, fT, fB);\n"
            "    return rp_prepare(weight, diffuse_color, retro_color, specular, roughness, ior,\n"
            "                      prism_reflection, metal_reflectance, era_mode, orientation,\n"
-           "                      cant_angle, dihedral_error, dihedral_spread, retro_lobe,\n"
+           "                      cant_angle, dihedral_error, dihedral_spread, prism_pitch,\n"
+           "                      abbe_number, wavelength, retro_lobe,\n"
            "                      reciprocal ? 1 : 0,\n"
            "                      fidelity);\n"
            "}\n\n"
@@ -340,7 +332,8 @@ std::string Variant::describe() const {
            (prism_reflection < 0 ? "runtime" : kPrismNames[prism_reflection]) +
            " | fidelity: " + (fidelity < 0 ? "runtime" : kFidelityNames[fidelity]) +
            " | cant_angle: " + (canted ? "runtime" : "0") +
-           " | dihedral_error: " + (dihedral ? "runtime" : "0");
+           " | dihedral_error: " + (dihedral ? "runtime" : "0") +
+           " | prism_pitch: " + (diffraction ? "runtime" : "0");
 }
 
 std::vector<Variant> standard_variants() {
@@ -374,6 +367,7 @@ std::vector<Variant> standard_variants() {
         v.fidelity = 1;
         v.canted = false;
         v.dihedral = false;
+        v.diffraction = false;
         v.cpp = true;
         v.name = std::string("prismatic_retroreflector_averaged_") + kPrismNames[prism] + "_fast";
         out.push_back(v);
@@ -386,6 +380,7 @@ std::vector<Variant> standard_variants() {
             v.prism_reflection = prism;
             v.canted = false;
             v.dihedral = false;
+            v.diffraction = false;
             v.name = std::string("prismatic_retroreflector_") + kEraNames[era] + "_" +
                      kPrismNames[prism];
             v.cpp = era == 0 && prism < 2;
@@ -456,6 +451,7 @@ std::set<std::string> features(const Variant& v) {
     }
     if (v.canted) f.insert("canted");
     if (v.dihedral) f.insert("dihedral");
+    if (v.diffraction) f.insert("diffraction");
     return f;
 }
 

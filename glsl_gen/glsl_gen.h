@@ -22,6 +22,7 @@ struct Variant {
     int fidelity = -1;         // -1: chosen at run time by the fidelity input
     bool canted = true;        // false: cant_angle fixed at 0 (the canted code left out)
     bool dihedral = true;      // false: dihedral_error fixed at 0 (the ring's code left out)
+    bool diffraction = true;   // false: prism_pitch fixed at 0 (the diffraction code left out)
     bool cpp = false;          // also generated as C++ (cpp/<name>.inc in the build tree)
     std::string describe() const;
 };

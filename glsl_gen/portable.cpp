@@ -592,6 +592,34 @@ std::pair<PrismShare, PrismShare> prisms_at_azimuth(Graph& g, const Sheet& s) {
     return {oriented, {eraPair, passedPair}};
 }
 
+// The sheet's index at the `wavelength` input by abbe_number (prism_core.inc's
+// rp_dispersed_ior: the Cauchy law through n_d), ior itself without either.
+Val dispersed_ior(Graph& g) {
+    Val nD = float_input(g, "ior");
+    Val abbe = float_input(g, "abbe_number");
+    Val nm = float_input(g, "wavelength");
+    g.comment("ior at the wavelength (nm) by the Cauchy law through n_d with n_F - n_C = (n_d - "
+              "1) / abbe_number; ior itself when either is 0");
+    const double lineD = f64::RP_LINE_D, lineF = f64::RP_LINE_F, lineC = f64::RP_LINE_C;
+    const double k = 1.0 / (lineF * lineF) - 1.0 / (lineC * lineC);
+    Val b = g.div(g.sub(nD, Graph::f(1)), g.mul(g.max(abbe, Graph::f(1e-6)), Graph::f(k)));
+    Val invLam2 = g.div(Graph::f(1e6), g.mul(g.max(nm, Graph::f(1e-6)), g.max(nm, Graph::f(1e-6))));
+    Val n = g.clamp(g.add(nD, g.mul(b, g.sub(invLam2, Graph::f(1.0 / (lineD * lineD))))), 1, 3);
+    return g.if_ge(Graph::f(0), abbe, nD, g.if_ge(Graph::f(0), nm, nD, n));
+}
+
+// The variance per axis of the diffraction pattern's core for lambda / pitch = 1 (rad^2): the
+// node's (prism_core.inc's rp_diffraction_setup) for ideal prisms, averaged, at normal incidence.
+double diffraction_core_variance() {
+    Params p;
+    p.prism_pitch = 1.0;
+    p.wavelength = 1000.0;
+    const f64::rp_material m = prepare_material(sanitize(p));
+    f64::rp_incident s;
+    f64::rp_incident_setup(m, f64::vec3(0, 0, 1), s);
+    return s.diffCore2;
+}
+
 // The retro lobe: GGX about V of the model's widths at V (MODEL.md section 3; isotropic
 // alpha_o, or alpha_par along the plane of incidence and alpha_perp across it for retro_lobe
 // anisotropic), widened by the random dihedral errors, each mapped to GGX by fit_retro_lobe, of
@@ -611,12 +639,22 @@ Val retro_lobe(Graph& g, const Sheet& s, const Val& alpha, const Val& c, const V
     Val sigma = g.mul(float_input(g, "dihedral_spread"), Graph::f(f64::RP_ARCMIN));
     Val var8 = g.mul(g.mul(sigma, sigma), Graph::f(8));
     Val magPar = g.div(s.gEta, c);
-    auto widen = [&](const Val& width, const Val& mag2) {
-        return g.sqrt(g.add(g.mul(width, width), g.mul(var8, mag2)));
+    g.comment(
+        "Diffraction at the prisms (prism_pitch in um, 0: none) adds twice the pattern's "
+        "core variance, k (lambda / pitch)^2 at `wavelength` (550 nm when 0), to each width's "
+        "square, divided by cos_v^2 along the plane of incidence and by cos_v for the "
+        "isotropic width (docs/diffraction.md)");
+    Val pitch = float_input(g, "prism_pitch");
+    Val nm = float_input(g, "wavelength");
+    Val lam = g.if_ge(Graph::f(0), nm, Graph::f(0.55), g.mul(nm, Graph::f(0.001)));
+    Val ratio = g.if_ge(Graph::f(0), pitch, Graph::f(0), g.div(lam, g.max(pitch, Graph::f(1e-6))));
+    Val var2 = g.mul(g.mul(ratio, ratio), Graph::f(2 * diffraction_core_variance()));
+    auto widenAll = [&](const Val& width, const Val& mag2, const Val& diff2) {
+        return g.sqrt(g.add(g.add(g.mul(width, width), g.mul(var8, mag2)), diff2));
     };
-    Val isoW = widen(iso, g.div(g.mul(s.eta, s.gEta), c));
-    Val parW = widen(par, g.mul(magPar, magPar));
-    Val perpW = widen(perp, s.eta2);
+    Val isoW = widenAll(iso, g.div(g.mul(s.eta, s.gEta), c), g.div(var2, c));
+    Val parW = widenAll(par, g.mul(magPar, magPar), g.div(var2, g.mul(c, c)));
+    Val perpW = widenAll(perp, s.eta2, var2);
     Val lobe = g.input("retro_lobe", "integer");
     auto ggx = [&](const Val& width, const Val& isotropic) {
         Val w = choose_enum(g, lobe, 1, width, isotropic);
@@ -656,7 +694,7 @@ std::string generate_portable_nodegraph() {
                     minCos, 1.0);
     g.comment("Sheet: eta, eta cos(theta_t), sin(theta_t), T(cos_v)");
     Val weight = float_input(g, "weight");
-    Val eta = float_input(g, "ior");
+    Val eta = dispersed_ior(g);
     Val eta2 = g.mul(eta, eta);
     Val c2 = g.mul(c, c);
     Val eta2m1 = g.sub(eta2, Graph::f(1));

@@ -73,6 +73,7 @@ namespace f32 {
 using real = float;
 using vec2 = glm::vec2;
 using vec3 = glm::vec3;
+using vec4 = glm::vec4;
 RP_CORE_PRELUDE
 #include "prism_special.inc"
 RP_ERFINV_REFINED(1)
@@ -88,6 +89,7 @@ namespace f64 {
 using real = double;
 using vec2 = glm::dvec2;
 using vec3 = glm::dvec3;
+using vec4 = glm::dvec4;
 RP_CORE_PRELUDE
 #include "prism_special.inc"
 RP_ERFINV_REFINED(2)

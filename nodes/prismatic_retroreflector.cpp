@@ -210,7 +210,8 @@ f64::rp_material prepare_material(const Params& p) {
         p.weight, f64::vec3(p.diffuse_color[0], p.diffuse_color[1], p.diffuse_color[2]),
         f64::vec3(p.retro_color[0], p.retro_color[1], p.retro_color[2]), p.specular, p.roughness,
         p.ior, p.prism_reflection, p.metal_reflectance, p.era_mode, p.orientation, p.cant_angle,
-        p.dihedral_error, p.dihedral_spread, p.retro_lobe, p.reciprocal ? 1 : 0, p.fidelity);
+        p.dihedral_error, p.dihedral_spread, p.prism_pitch, p.abbe_number, p.wavelength,
+        p.retro_lobe, p.reciprocal ? 1 : 0, p.fidelity);
 }
 
 namespace {
@@ -255,12 +256,46 @@ f32::rp_material round_material<float>(const f64::rp_material& m) {
     r.ring_par = float(m.ring_par);
     r.ring_tilt = float(m.ring_tilt);
     r.spread2 = float(m.spread2);
+    r.diffraction = m.diffraction;
+    r.diff_scale = f32::vec3(m.diff_scale);
+    r.diff_coherence = float(m.diff_coherence);
+    r.ap_e1 = f32::vec3(m.ap_e1);
+    r.ap_e2 = f32::vec3(m.ap_e2);
+    r.ap_e3 = f32::vec3(m.ap_e3);
+    r.ap_v1 = f32::vec2(m.ap_v1);
+    r.ap_v2 = f32::vec2(m.ap_v2);
+    r.ap_v3 = f32::vec2(m.ap_v3);
+    r.ap_edge = f32::vec3(m.ap_edge);
+    r.ap_period = float(m.ap_period);
+    r.ap_rot = float(m.ap_rot);
     r.retro_anisotropic = m.retro_anisotropic;
     r.reciprocal = m.reciprocal;
     r.fidelity = m.fidelity;
     r.diffuse_scale = f32::vec3(m.diffuse_scale);
     r.diffuse_albedo = f32::vec3(m.diffuse_albedo);
     return r;
+}
+
+// The core's diffraction terms (prism_core.inc) for either precision.
+int diffraction_terms(const f32::rp_material& m) {
+    return f32::rp_diffraction_terms(m);
+}
+int diffraction_terms(const f64::rp_material& m) {
+    return f64::rp_diffraction_terms(m);
+}
+f32::vec2 diffraction_term_of(const f32::rp_material& m, const f32::rp_incident& s, int j) {
+    return f32::rp_diffraction_term_of(m, s, j);
+}
+f64::vec2 diffraction_term_of(const f64::rp_material& m, const f64::rp_incident& s, int j) {
+    return f64::rp_diffraction_term_of(m, s, j);
+}
+f32::vec3 diffraction_sample_term(const f32::rp_incident& s, f32::vec3 wi, float var, float u1,
+                                  float u2, float uRing) {
+    return f32::rp_diffraction_sample_term(s, wi, var, u1, u2, uRing);
+}
+f64::vec3 diffraction_sample_term(const f64::rp_incident& s, f64::vec3 wi, double var, double u1,
+                                  double u2, double uRing) {
+    return f64::rp_diffraction_sample_term(s, wi, var, u1, u2, uRing);
 }
 
 template <class V>
@@ -273,7 +308,8 @@ V from_array(const Vec3d& a) {
 
 template <class Real>
 PrismaticRetroreflector<Real>::PrismaticRetroreflector(const Params& params, Averages averages)
-    : params_(sanitize(params)), m_(round_material<Real>(prepare_material(params_))) {
+    : params_(sanitize(params)), averages_(averages),
+      m_(round_material<Real>(prepare_material(params_))) {
     if (averages == Averages::Tabulated) azimuthSeries_ = attach_azimuth_series(m_);
     n_ = from_array<vec3>(params_.normal);
     t_ = from_array<vec3>(params_.tangent);
@@ -338,6 +374,46 @@ PrismaticRetroreflector<Real>::sample(const vec3& wiWorld, const vec3& u) const 
 }
 
 template <class Real>
+PrismaticRetroreflector<Real> PrismaticRetroreflector<Real>::at_wavelength(double nm) const {
+    Params p = params_;
+    p.wavelength = nm;
+    p = sanitize(p);
+    if (p.abbe_number > 0.0 && p.wavelength != params_.wavelength)
+        return PrismaticRetroreflector(p, averages_);
+    // The index does not move: only lambda / pitch of each channel (rp_prepare_diffraction).
+    PrismaticRetroreflector out = *this;
+    out.params_ = p;
+    if (m_.diffraction != 0) {
+        const f64::rp_material d = prepare_material(p);
+        out.m_.diff_scale = vec3(d.diff_scale);
+    }
+    return out;
+}
+
+template <class Real>
+typename PrismaticRetroreflector<Real>::Eval
+PrismaticRetroreflector<Real>::eval(const vec3& wi, const vec3& wo, double wavelengthNm) const {
+    return at_wavelength(wavelengthNm).eval(wi, wo);
+}
+
+template <class Real>
+typename PrismaticRetroreflector<Real>::Lobes
+PrismaticRetroreflector<Real>::f(const vec3& wi, const vec3& wo, double wavelengthNm) const {
+    return at_wavelength(wavelengthNm).f(wi, wo);
+}
+
+template <class Real>
+Real PrismaticRetroreflector<Real>::pdf(const vec3& wi, const vec3& wo, double wavelengthNm) const {
+    return at_wavelength(wavelengthNm).pdf(wi, wo);
+}
+
+template <class Real>
+std::optional<typename PrismaticRetroreflector<Real>::Sample>
+PrismaticRetroreflector<Real>::sample(const vec3& wi, const vec3& u, double wavelengthNm) const {
+    return at_wavelength(wavelengthNm).sample(wi, u);
+}
+
+template <class Real>
 Real PrismaticRetroreflector<Real>::retro_fraction(const vec3& wiWorld) const {
     vec3 wi;
     if (!to_local(wiWorld, wi) || !(wi.z >= Real(f64::RP_MIN_COS))) return 0;
@@ -393,7 +469,46 @@ PrismaticRetroreflector<Real>::albedo(const vec3& wiWorld, int grid) const {
         else
             out.retro = a;
     }
+    if (lobeOn[1] && m_.diffraction != 0) out.retro = diffraction_albedo(wi, s, grid);
     return out;
+}
+
+// The retro lobe's albedo with diffraction: the same estimator over the lobe's sampling map with
+// the map's discrete choices (channel, term of the pattern) summed with their probabilities
+// instead of drawn, each term's Gaussian on a midpoint grid of grid / 4 (at least 8) per side
+// and its ring (dihedral errors) at kAlbedoRingPoints angles.
+template <class Real>
+typename PrismaticRetroreflector<Real>::vec3 PrismaticRetroreflector<Real>::diffraction_albedo(
+    const vec3& wi, const typename core<Real>::incident& s, int grid) const {
+    const bool grey = m_.diff_scale.x == m_.diff_scale.y && m_.diff_scale.y == m_.diff_scale.z;
+    const int channels = grey ? 1 : 3;
+    const int side = std::max(8, grid / 4);
+    const int rings = s.ringPar2 + s.ringPerp2 > 0 ? kAlbedoRingPoints : 1;
+    const int terms = diffraction_terms(m_);
+    double sum[3] = {0, 0, 0};
+    for (int ch = 0; ch < channels; ++ch) {
+        const Real scale = m_.diff_scale[ch];
+        for (int t = 0; t < terms; ++t) {
+            const auto term = diffraction_term_of(m_, s, t);
+            const double weight = double(term.x) / (double(channels) * side * side * rings);
+            for (int k = 0; k < rings; ++k)
+                for (int i = 0; i < side; ++i)
+                    for (int j = 0; j < side; ++j) {
+                        const vec3 wo = diffraction_sample_term(
+                            s, wi, term.y * scale * scale, (Real(i) + Real(0.5)) / Real(side),
+                            (Real(j) + Real(0.5)) / Real(side),
+                            (Real(k) + Real(0.5)) / Real(rings));
+                        if (!(wo.z >= Real(f64::RP_MIN_COS))) continue;
+                        const Real pdf = core<Real>::lobe_pdf(m_, s, wi, wo, 1);
+                        if (!(pdf > 0)) continue;
+                        typename core<Real>::lobes r;
+                        core<Real>::eval_lobes(m_, s, wi, wo, r);
+                        for (int c = 0; c < 3; ++c)
+                            sum[c] += weight * double(r.retro[c] * wo.z / pdf);
+                    }
+        }
+    }
+    return vec3(Real(sum[0]), Real(sum[1]), Real(sum[2]));
 }
 
 double era(double thetaT, double phi, int eraMode, double cantDeg) {

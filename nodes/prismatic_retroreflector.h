@@ -271,6 +271,19 @@ class PrismaticRetroreflector {
     // Retroreflected fraction E and ERA A (geometry alone) of the mean refracted direction.
     Real retro_fraction(const vec3& wi) const;
 
+    // The node at one wavelength in nm: every channel evaluated there (the `wavelength` input
+    // set: the diffraction of prism_pitch and, with abbe_number, the sheet's index there).
+    // Wavelengths are sanitised as that input is (clamped into [0, 2000] nm, NaN taking 0, the
+    // colour channels). Without an Abbe number the result shares this node's material but for
+    // lambda / pitch; with one it is prepared anew (the azimuth series of the new index from the
+    // series cache, or made: 0.3-50 ms). Per-query forms below: a node made once per wavelength
+    // is the cheap way to evaluate many directions at one wavelength.
+    PrismaticRetroreflector at_wavelength(double wavelengthNm) const;
+    Eval eval(const vec3& wi, const vec3& wo, double wavelengthNm) const;
+    Lobes f(const vec3& wi, const vec3& wo, double wavelengthNm) const;
+    Real pdf(const vec3& wi, const vec3& wo, double wavelengthNm) const;
+    std::optional<Sample> sample(const vec3& wi, const vec3& u, double wavelengthNm) const;
+
     // The core's material; it may point to series the node owns (azimuth_series), so a copy is
     // valid while the node, or a copy of the node, lives.
     const material& core_material() const { return m_; }
@@ -281,7 +294,10 @@ class PrismaticRetroreflector {
     vec3 to_world(const vec3& local) const;
 
   private:
+    vec3 diffraction_albedo(const vec3& wi, const typename core<Real>::incident& s, int grid) const;
+
     Params params_;
+    Averages averages_ = Averages::Tabulated;
     material m_;
     vec3 n_, t_, b_;
     // The series m_.azimuth_series points to (shared by copies), or null.

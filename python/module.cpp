@@ -62,9 +62,22 @@ std::vector<double> angles_or(const pyb::handle& value, const std::string& name,
     return std::vector<double>(a.data(), a.data() + a.size());
 }
 
-pyb::dict ra_table_of(const Node& node, double rotation, const pyb::handle& observation,
-                      const pyb::handle& entrance) {
+// The node at `wavelength` (nm, in (0, 2000]: its `wavelength` input set), or the node itself
+// for None.
+Node at_wavelength(const Node& node, const pyb::object& wavelength) {
+    if (wavelength.is_none()) return node;
+    const double nm = wavelength.cast<double>();
+    if (!(nm > 0.0 && nm <= 2000.0))
+        throw pyb::value_error("wavelength: must be in (0, 2000] nm, got " + std::to_string(nm));
+    Params p = node.params;
+    p.wavelength = nm;
+    return Node(p);
+}
+
+pyb::dict ra_table_of(const Node& node0, double rotation, const pyb::handle& observation,
+                      const pyb::handle& entrance, const pyb::object& wavelength) {
     if (!std::isfinite(rotation)) throw pyb::value_error("rotation: must be finite");
+    const Node node = at_wavelength(node0, wavelength);
     const RaTable t = ra_table(node.params, rotation,
                                angles_or(observation, "observation", ra_observation_angles()),
                                angles_or(entrance, "entrance", ra_entrance_angles()));
@@ -93,7 +106,8 @@ void define_node(pyb::module_& m) {
                       "names, types and ranges of retroprism.param_table(). Directions are "
                       "(N, 3) arrays in the frame of `normal` and `tangent` (the local shading "
                       "frame by default), wi toward the light, wo toward the viewer; float32 "
-                      "batches run the float node, float64 the double node.")
+                      "batches run the float node, float64 the double node. eval, f, pdf, "
+                      "sample and ra_table take wavelength=NM to evaluate every channel there.")
         .def(pyb::init([](const pyb::args& args, const pyb::kwargs& kwargs) {
             return Node(params_from_python(args, kwargs));
         }))
@@ -107,35 +121,44 @@ void define_node(pyb::module_& m) {
              })
         .def(
             "eval",
-            [](const Node& n, const pyb::handle& wi, const pyb::handle& wo) {
+            [](const Node& n0, const pyb::handle& wi, const pyb::handle& wo,
+               const pyb::object& wavelength) {
+                const Node n = at_wavelength(n0, wavelength);
                 return eval_pairs(n, wi, wo, true);
             },
-            pyb::arg("wi"), pyb::arg("wo"),
+            pyb::arg("wi"), pyb::arg("wo"), pyb::arg("wavelength") = pyb::none(),
             "BRDF without the cosine (1/sr) per lobe and in total, and the sampling pdf: "
             "{'f', 'surface', 'retro', 'diffuse': (N, 3), 'pdf': (N,)}.")
         .def(
             "f",
-            [](const Node& n, const pyb::handle& wi, const pyb::handle& wo) {
+            [](const Node& n0, const pyb::handle& wi, const pyb::handle& wo,
+               const pyb::object& wavelength) {
+                const Node n = at_wavelength(n0, wavelength);
                 return eval_pairs(n, wi, wo, false);
             },
-            pyb::arg("wi"), pyb::arg("wo"),
+            pyb::arg("wi"), pyb::arg("wo"), pyb::arg("wavelength") = pyb::none(),
             "eval() without the pdf (cheaper): {'f', 'surface', 'retro', 'diffuse': (N, 3)}.")
         .def(
             "pdf",
-            [](const Node& n, const pyb::handle& wi, const pyb::handle& wo) {
+            [](const Node& n0, const pyb::handle& wi, const pyb::handle& wo,
+               const pyb::object& wavelength) {
+                const Node n = at_wavelength(n0, wavelength);
                 return pyb::object(eval_pairs(n, wi, wo, true)["pdf"]);
             },
-            pyb::arg("wi"), pyb::arg("wo"), "The one-sample-mixture sampling pdf (N,) in 1/sr.")
+            pyb::arg("wi"), pyb::arg("wo"), pyb::arg("wavelength") = pyb::none(),
+            "The one-sample-mixture sampling pdf (N,) in 1/sr.")
         .def(
             "sample",
-            [](const Node& n, const pyb::handle& wi, const pyb::handle& u) {
+            [](const Node& n0, const pyb::handle& wi, const pyb::handle& u,
+               const pyb::object& wavelength) {
+                const Node n = at_wavelength(n0, wavelength);
                 Batch a = batch_arg(wi, "wi");
                 Batch b = batch_arg(u, "u");
                 require_same(a, "wi", b, "u");
                 require_in(b, "u", 0.0, 1.0);
                 return sample_batch(n, a, b);
             },
-            pyb::arg("wi"), pyb::arg("u"),
+            pyb::arg("wi"), pyb::arg("u"), pyb::arg("wavelength") = pyb::none(),
             "Sampled directions for random numbers u in [0, 1) (u[:, 2] picks the lobe): "
             "{'wo', 'f', 'surface', 'retro', 'diffuse': (N, 3), 'pdf': (N,), 'lobe': (N,) "
             "0 surface, 1 retro, 2 diffuse, -1 none, 'valid': (N,) bool}.")
@@ -159,6 +182,7 @@ void define_node(pyb::module_& m) {
             "Retroreflected fraction E = A R1 R2 R3 of the mean refracted direction (N,).")
         .def("ra_table", &ra_table_of, pyb::arg("rotation") = 0.0,
              pyb::arg("observation") = pyb::none(), pyb::arg("entrance") = pyb::none(),
+             pyb::arg("wavelength") = pyb::none(),
              "Coefficient of retroreflection R_A (cd/lx/m^2) as `retroprism ra` computes it: "
              "{'observation', 'entrance' (degrees), 'rotation', 'rgb': (rows, columns, 3), 'Y': "
              "(rows, columns)}; standard angles unless given.");

@@ -112,6 +112,43 @@ std::vector<Corner> parameter_corners() {
                                    " retro_lobe=" + std::to_string(p.retro_lobe),
                                p});
             }
+    // Diffraction at the prism aperture (prism_pitch), per colour channel or at one wavelength,
+    // from a pitch far below the wavelength (the pattern wider than the hemisphere) to 2 mm, with
+    // every ERA mode, a dispersion, dihedral errors and a cant, and the fast tier.
+    struct Diffracting {
+        double roughness, ior, pitch, wavelength, abbe, dihedral, cant;
+        int era, prism, fidelity;
+    };
+    const Diffracting diffracting[] = {{1e-4, 1.49, 30.0, 0.0, 0.0, 0.0, 0.0, 0, 1, 0},
+                                       {0.05, 1.49, 200.0, 905.0, 57.0, 0.0, 0.0, 1, 1, 0},
+                                       {1e-4, 3.0, 100.0, 1550.0, 0.0, 8.0, -20.0, 2, 0, 1},
+                                       {1.0, 1.0, 10.0, 0.0, 30.0, 60.0, 0.0, 0, 2, 0},
+                                       {1e-4, 1.49, 2000.0, 400.0, 57.0, 0.0, 10.0, 0, 1, 1},
+                                       {0.05, 1.586, 0.01, 0.0, 0.0, 4.0, 0.0, 0, 0, 0}};
+    for (const Diffracting& d : diffracting) {
+        Params p;
+        p.roughness = d.roughness;
+        p.ior = d.ior;
+        p.prism_pitch = d.pitch;
+        p.wavelength = d.wavelength;
+        p.abbe_number = d.abbe;
+        p.dihedral_error = d.dihedral;
+        p.cant_angle = d.cant;
+        p.era_mode = d.era;
+        p.prism_reflection = d.prism;
+        p.fidelity = d.fidelity;
+        p.orientation = 17.0;
+        p.diffuse_color = {1.0, 1.0, 1.0};
+        p.retro_color = {1.0, 1.0, 1.0};
+        out.push_back(
+            {"roughness=" + std::to_string(d.roughness) + " ior=" + std::to_string(d.ior) +
+                 " pitch=" + std::to_string(d.pitch) +
+                 " wavelength=" + std::to_string(d.wavelength) + " abbe=" + std::to_string(d.abbe) +
+                 " era=" + std::to_string(d.era) + " prism=" + std::to_string(d.prism) +
+                 " dihedral=" + std::to_string(d.dihedral) + " cant=" + std::to_string(d.cant) +
+                 " fidelity=" + std::to_string(d.fidelity),
+             p});
+    }
     return out;
 }
 

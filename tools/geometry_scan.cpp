@@ -13,9 +13,14 @@
 // entry.
 //
 //   retroprism_geometry_scan [--full] TABLE.csv [ROUGHNESS [RAYS]]
+//   retroprism_geometry_scan --wave TABLE.csv [PITCH_UM,... [tir|ideal|metallized]]
 //
 // ROUGHNESS: Beckmann roughness of the top surface (default 0.008); RAYS: rays per entrance and
 // rotation (default 1e5). Deterministic: fixed seeds per geometry, whatever the thread count.
+// `--wave`: the same grid of truncated cubes in physical optics instead (sim/wave_optics.h,
+// docs/wave_optics.md), prisms of ior 1.49 (uncoated, TIR, unless named otherwise) with a
+// smooth top surface, at each pitch (default 80,120,162,200,250 um): matched pairs, the coplanar
+// observation, photometric (illuminant A x V), each geometry and pitch with its own scale.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -25,11 +30,13 @@
 #include <vector>
 
 #include "cube_corner.h"
+#include "error.h"
 #include "microgeometry.h"
 #include "parallel.h"
 #include "parse.h"
 #include "photometry.h"
 #include "ra_table.h"
+#include "wave_optics.h"
 
 using namespace retroprism;
 using glm::dvec3;
@@ -181,10 +188,102 @@ void fit_scale(Geometry& g, const std::vector<RaEntry>& entries) {
         g.worst = std::max(g.worst, std::abs(g.scale * g.ra[e] / entries[e].ra - 1.0));
 }
 
+// One geometry of the wave scan: the grid's corner at a pitch.
+struct WaveGeometry {
+    Geometry g;
+    double pitch = 0.0;
+};
+
+// The photometric wave R_A of a matched pair of TIR prisms at each entry (the mean over its
+// rotations, 0 and 90 degrees when it has none), coplanar observation.
+std::vector<double> wave_entries(const Geometry& g, double pitch, int reflection,
+                                 const std::vector<RaEntry>& entries) {
+    sim::wave::WaveMaterial m;
+    m.ior = kEta;
+    m.prism_reflection = reflection;
+    m.cant_deg = g.cant;
+    std::copy(g.errors, g.errors + 3, m.dihedral_faces_arcmin.begin());
+    m.pitch_um = pitch;
+    sim::wave::WaveMode mode;
+    mode.era = sim::wave::WaveMode::Era::kMatchedPair;
+    mode.coplanar = true;
+    std::vector<double> ra(entries.size(), 0.0);
+    for (std::size_t e = 0; e < entries.size(); ++e) {
+        const RaEntry& entry = entries[e];
+        if (entry.presentation_deg != 0.0)
+            throw InputError("line " + std::to_string(entry.line) +
+                             ": --wave takes presentation angle 0 only");
+        const std::vector<double> rotations = entry.rotation_deg
+                                                  ? std::vector<double>{*entry.rotation_deg}
+                                                  : std::vector<double>{0.0, 90.0};
+        mode.rotations_deg = rotations;
+        ra[e] = sim::wave::wave_ra_profile_photometric(m, entry.entrance_deg,
+                                                       {entry.observation_deg}, mode)[0];
+    }
+    return ra;
+}
+
+int wave_scan(const RaMeasurements& table, const std::vector<double>& pitches,
+              const std::string& reflection) {
+    const char* names[3] = {"ideal", "tir", "metallized"};
+    const int mode = int(std::find(names, names + 3, reflection) - names);
+    if (mode == 3)
+        throw InputError("reflection " + reflection + ": expected tir, ideal or metallized");
+    std::vector<WaveGeometry> scan;
+    for (const Geometry& g : grid(false))
+        for (double pitch : pitches)
+            scan.push_back({g, pitch});
+    parallel_for(scan.size(), 0, [&](std::size_t i) {
+        scan[i].g.ra = wave_entries(scan[i].g, scan[i].pitch, mode, table.entries);
+        fit_scale(scan[i].g, table.entries);
+    });
+    std::sort(scan.begin(), scan.end(),
+              [](const WaveGeometry& a, const WaveGeometry& b) { return a.g.worst < b.g.worst; });
+    const auto within20 = std::count_if(scan.begin(), scan.end(),
+                                        [](const WaveGeometry& w) { return w.g.worst <= 0.2; });
+    std::printf("%zu geometries (matched pairs of %s prisms in physical optics, ior %.2f, smooth "
+                "top surface, photometric, %zu pitches) against %s: %ld within 20%% at every "
+                "entry\n",
+                scan.size(), mode == 1 ? "TIR" : names[mode], kEta, pitches.size(),
+                table.file.c_str(), long(within20));
+    std::printf("\n%6s %6s %17s %7s  scaled / measured per entry\n", "pitch", "cant",
+                "errors (arcmin)", "worst");
+    for (size_t i = 0; i < std::min<size_t>(10, scan.size()); ++i) {
+        const Geometry& g = scan[i].g;
+        std::printf("%6.0f %6.1f %5.1f %5.1f %5.1f %6.1f%% ", scan[i].pitch, g.cant, g.errors[0],
+                    g.errors[1], g.errors[2], 100.0 * g.worst);
+        for (size_t e = 0; e < table.entries.size(); ++e)
+            std::printf(" %5.2f", g.scale * g.ra[e] / table.entries[e].ra);
+        std::printf("\n");
+    }
+    return 0;
+}
+
+std::vector<double> pitch_list(const std::string& text) {
+    std::vector<double> list;
+    size_t start = 0;
+    while (start <= text.size()) {
+        const size_t comma = std::min(text.find(',', start), text.size());
+        list.push_back(parse_number_in(text.substr(start, comma - start), "PITCH_UM", 1, 1e5));
+        start = comma + 1;
+    }
+    return list;
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
     try {
+        if (argc > 1 && std::string(argv[1]) == "--wave") {
+            if (argc < 3 || argc > 5) {
+                std::fprintf(stderr, "usage: retroprism_geometry_scan --wave TABLE.csv "
+                                     "[PITCH_UM,... [tir|ideal|metallized]]\n");
+                return 2;
+            }
+            return wave_scan(read_ra_table(argv[2]),
+                             pitch_list(argc > 3 ? argv[3] : "80,120,162,200,250"),
+                             argc > 4 ? argv[4] : "tir");
+        }
         const bool full = argc > 1 && std::string(argv[1]) == "--full";
         const int first = full ? 2 : 1; // the first positional argument
         if (argc < first + 1 || argc > first + 3) {

@@ -210,6 +210,7 @@ void check_specialised(const std::vector<glsl::Variant>& specialised) {
                 q.material.dihedral_error = 0.0;
                 q.material.dihedral_spread = 0.0;
             }
+            if (!v.diffraction) q.material.prism_pitch = 0.0;
             std::vector<std::array<Vec3d, 2>> pairs;
             for (const DirectionPair& s : q.samples)
                 pairs.push_back({s.wi, s.wo});
@@ -274,11 +275,13 @@ TEST_CASE("Each specialised variant computes what the C++ reference computes: th
     check_specialised(specialised_variants(true));
 }
 
-TEST_CASE("cant_angle 0 and dihedral_error 0 in the full variant are the paper's cube's code",
+TEST_CASE("cant_angle 0, dihedral_error 0 and prism_pitch 0 in the full variant are the paper's "
+          "cube's code",
           "[glsl]") {
-    // The full variant (cant_angle, dihedral_error and dihedral_spread at run time) against the
-    // same variant with them fixed at 0 at generation time (the canted and the dihedral code
-    // left out): all three at 0 leave the paper's perfect cube's code unchanged, bit for bit,
+    // The full variant (cant_angle, dihedral_error, dihedral_spread and prism_pitch at run time)
+    // against the same variant with them fixed at 0 at generation time (the canted, the dihedral
+    // and the diffraction code left out): all at 0 leave the paper's perfect cube's geometric
+    // optics unchanged, bit for bit,
     // except in the azimuth integrator (the averaged mode's exact tier for uncoated prisms and
     // metallized prisms' face hits). One call serves canted and paper faces there, and where the
     // variant has no canted code the compiler sees the paper's faces as constants and folds and
@@ -288,6 +291,7 @@ TEST_CASE("cant_angle 0 and dihedral_error 0 in the full variant are the paper's
     glsl::Variant uncanted = fullVariant;
     uncanted.canted = false;
     uncanted.dihedral = false;
+    uncanted.diffraction = false;
     gl::Runner full(glsl::generate_library(fullVariant, RP_SOURCE_DIR));
     gl::Runner paperCube(glsl::generate_library(uncanted, RP_SOURCE_DIR));
     long compared = 0, differing = 0, integrated = 0, integratedDiffering = 0;
@@ -297,6 +301,7 @@ TEST_CASE("cant_angle 0 and dihedral_error 0 in the full variant are the paper's
         flat.cant_angle = 0.0;
         flat.dihedral_error = 0.0;
         flat.dihedral_spread = 0.0;
+        flat.prism_pitch = 0.0;
         const bool viaIntegrator =
             flat.era_mode == 0 &&
             ((flat.prism_reflection == 1 && flat.fidelity == 0) || flat.prism_reflection == 2);

@@ -383,6 +383,27 @@ struct Chi2Result {
     double seconds = 0;
 };
 
+// The retro lobe's width along the plane of incidence for the test's grids: alphaPar, with
+// diffraction widened by the pattern's core (rp_diffraction_widths, the widest channel), and by
+// the ring of spots.
+double retro_width(const f64::rp_material& m, const f64::rp_incident& s, const dvec3& wi) {
+    if (m.diffraction == 0) return s.alphaPar * (1.0 + s.ringRadius);
+    const double scale = std::max({m.diff_scale.x, m.diff_scale.y, m.diff_scale.z});
+    const double var = std::min(2.0 * s.diffCore2 * scale * scale / (wi.z * wi.z),
+                                double(f64::RP_DIFF_MAX_WIDTH2));
+    return std::sqrt(s.geoPar2 + var) + s.alphaPar * s.ringRadius;
+}
+
+// The ratio of its width across the plane of incidence to retro_width's (without the ring).
+double retro_ratio(const f64::rp_material& m, const f64::rp_incident& s, const dvec3& wi) {
+    if (m.diffraction == 0) return s.alphaPerp / s.alphaPar;
+    const double scale = std::max({m.diff_scale.x, m.diff_scale.y, m.diff_scale.z});
+    const double var = 2.0 * s.diffCore2 * scale * scale;
+    const double cap = f64::RP_DIFF_MAX_WIDTH2;
+    return std::sqrt((s.geoPerp2 + std::min(var, cap)) /
+                     (s.geoPar2 + std::min(var / (wi.z * wi.z), cap)));
+}
+
 Chi2Result run_case(const Chi2Case& cs) {
     const auto t0 = std::chrono::steady_clock::now();
     Chi2Result res;
@@ -403,8 +424,8 @@ Chi2Result run_case(const Chi2Case& cs) {
     // The retro lobe's widths alphaPar along the plane of incidence (e1) and alphaPerp across
     // it; a ring of spots (dihedral errors) of scaled radius ringRadius widens both by about
     // (1 + ringRadius); at grazing incidence its ellipse is far longer along than across.
-    const double retroWidth = s.alphaPar * (1.0 + s.ringRadius);
-    const double retroRatio = s.alphaPerp / s.alphaPar;
+    const double retroWidth = retro_width(m, s, wi);
+    const double retroRatio = retro_ratio(m, s, wi);
 
     int centreKind = cs.kind == kMixture ? (cs.centre == 0 ? kSurface : kRetro) : cs.kind;
     Grid g = centreKind == kSurface ? make_grid(mirror, surfWidth, surfRatio, false)
@@ -432,7 +453,8 @@ Chi2Result run_case(const Chi2Case& cs) {
         for (long i = 0; i < kSamples; ++i) {
             const double u1 = rng.uniform(), u2 = rng.uniform();
             // The ring's angle (dihedral errors) is a third number, drawn only where it is used.
-            const double u3 = cs.kind == kRetro && s.ringRadius > 0 ? rng.uniform() : 0.0;
+            const double u3 =
+                cs.kind == kRetro && (s.ringRadius > 0 || m.diffraction != 0) ? rng.uniform() : 0.0;
             const dvec3 wo = f64::rp_lobe_sample(m, s, wi, cs.kind, u1, u2, u3);
             if (!(wo.z > 0)) { // below the horizon: a failed sample
                 ++hist.back();
@@ -457,9 +479,9 @@ Chi2Result run_case(const Chi2Case& cs) {
             gb.coords(-wi, t, p);
             cellsBelow = integrate_grid(gb, pdf, -wi.z, zhi, {{t, p, 6.0 * surfWidth}}, res.quad);
         } else if (k == kRetro) {
-            cellsBelow = integrate_grid(make_grid(wi, inc.alphaPar * (1.0 + inc.ringRadius),
-                                                  inc.alphaPerp / inc.alphaPar, false),
-                                        pdf, -2.0, zhi, {}, res.quad);
+            cellsBelow = integrate_grid(
+                make_grid(wi, retro_width(mat, inc, wi), inc.alphaPerp / inc.alphaPar, false), pdf,
+                -2.0, zhi, {}, res.quad);
         } else {
             cellsBelow = integrate_grid(make_grid(dvec3(0, 0, 1), 1.0, 1.0, true), pdf, -2.0, zhi,
                                         {}, res.quad);
@@ -537,6 +559,8 @@ enum Group {
     kGroupMixtureTir,
     kGroupRetroDihedral,
     kGroupMixtureDihedral,
+    kGroupRetroDiffraction,
+    kGroupMixtureDiffraction,
     kGroups
 };
 const char* const kGroupName[] = {"surface lobe",
@@ -545,7 +569,10 @@ const char* const kGroupName[] = {"surface lobe",
                                   "mixture (defaults)",
                                   "mixture (oriented ERA, tir prisms)",
                                   "retro lobe (dihedral error 10 arcmin)",
-                                  "mixture (dihedral error 10 arcmin, cant -10, anisotropic)"};
+                                  "mixture (dihedral error 10 arcmin, cant -10, anisotropic)",
+                                  "retro lobe (prism_pitch 60 um, colour channels, dihedral "
+                                  "error 10 arcmin)",
+                                  "mixture (prism_pitch 150 um at 905 nm, oriented tir prisms)"};
 
 std::vector<Chi2Case> group_cases(int group) {
     std::vector<Chi2Case> out;
@@ -573,10 +600,28 @@ std::vector<Chi2Case> group_cases(int group) {
                 cs.params.retro_lobe = 1; // anisotropic
                 cs.set += " cant=-10 retro_lobe=anisotropic";
             }
-            if (group <= kGroupDiffuse || group == kGroupRetroDihedral) {
-                cs.kind = group == kGroupRetroDihedral ? kRetro : Kind(group);
+            // Diffraction at the prisms: per colour channel (three patterns, 0.26-0.58 deg
+            // wide), and at one wavelength with the ring, the oriented aperture and the fast
+            // tier's tail.
+            if (group == kGroupRetroDiffraction) {
+                cs.params.prism_pitch = 60.0;
+                cs.params.dihedral_error = 10.0;
+                cs.set += " pitch=60 dihedral=10";
+            }
+            if (group == kGroupMixtureDiffraction) {
+                cs.params.prism_pitch = 150.0;
+                cs.params.wavelength = 905.0;
+                cs.params.era_mode = 2;
+                cs.params.prism_reflection = 1;
+                cs.set += " pitch=150 wavelength=905 era=oriented prisms=tir";
+            }
+            if (group <= kGroupDiffuse || group == kGroupRetroDihedral ||
+                group == kGroupRetroDiffraction) {
+                cs.kind = group == kGroupRetroDihedral || group == kGroupRetroDiffraction
+                              ? kRetro
+                              : Kind(group);
                 out.push_back(cs);
-            } else if (group == kGroupMixtureDihedral) {
+            } else if (group == kGroupMixtureDihedral || group == kGroupMixtureDiffraction) {
                 // The retro lobe's own test covers the ring; the mixture's wi-centred grid
                 // resolves it too.
                 cs.kind = kMixture;
@@ -695,6 +740,15 @@ TEST_CASE("chi2: the retro lobe with dihedral errors (a ring of spots)", "[chi2]
 
 TEST_CASE("chi2: the mixture with dihedral errors, a cant and the anisotropic lobe", "[chi2]") {
     check_group(kGroupMixtureDihedral);
+}
+
+TEST_CASE("chi2: the retro lobe with diffraction at the prisms (colour channels, a ring)",
+          "[chi2]") {
+    check_group(kGroupRetroDiffraction);
+}
+
+TEST_CASE("chi2: the mixture with diffraction at 905 nm, oriented tir prisms", "[chi2]") {
+    check_group(kGroupMixtureDiffraction);
 }
 
 TEST_CASE("chi2: family summary", "[chi2]") {

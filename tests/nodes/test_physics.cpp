@@ -1192,12 +1192,14 @@ TEST_CASE("Metallized substrate term's azimuth averages match a midpoint rule", 
                 worstTable, worstDirect, worstCanted);
 }
 
-TEST_CASE("cant_angle 0 and dihedral_error 0 compute what the paper's cube computes, bit for bit",
+TEST_CASE("cant_angle 0, dihedral_error 0 and prism_pitch 0 compute what the paper's cube "
+          "computes, bit for bit",
           "[physics]") {
-    // The runtime node (cant_angle and dihedral_error inputs) against the generated C++ variants
-    // that leave the canted and the ring's code out (glsl_gen's fixed variants,
-    // bench/variants.h), in float, for the same material with cant_angle and dihedral_error 0:
-    // every lobe equal to the bit.
+    // The runtime node (cant_angle, dihedral_error and prism_pitch inputs) against the generated
+    // C++ variants that leave the canted, the ring's and the diffraction code out (glsl_gen's
+    // fixed variants, bench/variants.h), in float, for the same material with cant_angle,
+    // dihedral_error and prism_pitch 0 (and an Abbe number, which without a wavelength changes
+    // nothing): every lobe equal to the bit.
     const std::vector<retroprism::bench::Row>& rows = retroprism::bench::rows();
     auto row = [&](const std::string& name) -> const retroprism::bench::Row& {
         for (const auto& r : rows)
@@ -1222,6 +1224,8 @@ TEST_CASE("cant_angle 0 and dihedral_error 0 compute what the paper's cube compu
             p.orientation = 11.0 * variation;
             p.cant_angle = 0.0;
             p.dihedral_error = 0.0;
+            p.prism_pitch = 0.0;
+            p.abbe_number = variation % 2 == 0 ? 0.0 : 57.0;
             const auto runtime = row(runtimeName).make_eval(p);
             const auto fixed = fixedRow.make_eval(p);
             for (int k = 0; k < 400; ++k) {
@@ -1240,7 +1244,8 @@ TEST_CASE("cant_angle 0 and dihedral_error 0 compute what the paper's cube compu
         }
     }
     CHECK(differing == 0);
-    std::printf("MEASURED: cant_angle 0 and dihedral_error 0 vs the fixed C++ variants: %ld "
+    std::printf("MEASURED: cant_angle 0, dihedral_error 0 and prism_pitch 0 vs the fixed C++ "
+                "variants: %ld "
                 "direction pairs, %ld lobes differing\n",
                 compared, differing);
 }

@@ -331,3 +331,23 @@ def test_directions_follow_the_nodes_guards():
     e = node.eval(wi, wo)
     for key in LOBES + ["pdf"]:
         assert np.all(e[key] == 0)
+
+
+def test_wavelength_evaluates_the_diffraction_lobe_there():
+    # With a prism pitch the retro lobe's diffraction pattern widens with the wavelength: at 1 deg
+    # from the retro direction the node at 1550 nm returns more than at 550 nm, and wavelength=NM
+    # is the node whose `wavelength` input is NM, value for value.
+    node = retroprism.Node(roughness=0.005, prism_pitch=150.0, prism_reflection="tir")
+    wi = np.array([[0.0, 0.0, 1.0]])
+    t = np.radians(1.0)
+    wo = np.array([[np.sin(t), 0.0, np.cos(t)]])
+    green = node.eval(wi, wo, wavelength=550.0)["retro"][0, 0]
+    infrared = node.eval(wi, wo, wavelength=1550.0)["retro"][0, 0]
+    assert infrared > 2.0 * green
+    direct = retroprism.Node(roughness=0.005, prism_pitch=150.0, prism_reflection="tir",
+                             wavelength=1550.0)
+    assert direct.eval(wi, wo)["retro"][0, 0] == infrared
+    ra = node.ra_table(wavelength=905.0)
+    assert ra["Y"].shape == (5, 5) and np.all(np.isfinite(ra["Y"]))
+    with pytest.raises(ValueError, match="wavelength"):
+        node.eval(wi, wo, wavelength=-5.0)
