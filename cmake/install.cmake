@@ -6,6 +6,7 @@
 #                                position-independent
 #   lib/cmake/retroprism/        retroprismConfig.cmake, its version file and the exported
 #                                targets retroprism::node, ::batch, ::util, ::io, ::analysis
+#                                (and ::osl, the OSL closure, where OSL was found)
 #   lib/pkgconfig/               retroprism.pc (the node), retroprism-analysis.pc (the readers and
 #                                photometry)
 #   bin/retroprism               the command
@@ -13,7 +14,9 @@
 #                                (<exe>/../share/retroprism): the MaterialX library, examples and
 #                                tool (with its lockfile and node_modules), the accuracy study's
 #                                results and template, the example materials, documents, R_A
-#                                tables and the consumer project, and the generated GLSL variants
+#                                tables and the consumer project, the generated GLSL variants,
+#                                the OSL shaders (osl/shaders) and the opt-in MaterialX library
+#                                of the OSL closure (materialx/rp_pbrlib_closure)
 #   lib/python3.X/site-packages/ the Python module (python/CMakeLists.txt)
 # The CMake package and the pkg-config files locate the prefix from their own folder, so an
 # installed tree may be moved.
@@ -69,6 +72,20 @@ install(DIRECTORY ${RP_GENERATED_DIR}/glsl/ DESTINATION ${RP_DATA_DEST}/glsl)
 # The look-dev page `retroprism view` serves (its static files) and its server, serve.py.
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/web/ DESTINATION ${RP_DATA_DEST}/web
         FILES_MATCHING PATTERN "*.html" PATTERN "*.js" PATTERN "*.css" PATTERN "serve.py")
+
+# The OSL closure (docs/osl.md): its generated shaders and opt-in MaterialX library always, and
+# where OSL was found the library retroprism::osl with its header, in an export set of its own
+# that retroprismConfig.cmake loads when the consumer finds OSL too.
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/osl/shaders DESTINATION ${RP_DATA_DEST}/osl)
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/materialx/rp_pbrlib_closure
+        DESTINATION ${RP_DATA_DEST}/materialx)
+if(TARGET retroprism_osl)
+  set_target_properties(retroprism_osl PROPERTIES POSITION_INDEPENDENT_CODE ON EXPORT_NAME osl)
+  install(TARGETS retroprism_osl EXPORT retroprismOslTargets
+          ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
+  install(FILES ${PROJECT_SOURCE_DIR}/osl/retroprism_closure.h DESTINATION ${RP_INCLUDE_DEST})
+  install(EXPORT retroprismOslTargets NAMESPACE retroprism:: DESTINATION ${RP_CMAKE_DEST})
+endif()
 
 # The CMake package.
 install(EXPORT retroprismTargets NAMESPACE retroprism:: DESTINATION ${RP_CMAKE_DEST})

@@ -7,8 +7,10 @@
 //       DIR/embedded_files.cpp     the GLSL variants and the MaterialX library as string
 //                                  literals (from glsl_gen/embedded_files.cpp.in), written last.
 //   retroprism_glsl_gen SOURCE_DIR --materialx  writes the checked-in MaterialX library,
-//                                               SOURCE_DIR/materialx/rp_pbrlib/.
-//   retroprism_glsl_gen SOURCE_DIR --check      compares that library with what glsl_gen
+//                                               SOURCE_DIR/materialx/rp_pbrlib/, and the OSL
+//                                               files (osl_gen.h): SOURCE_DIR/osl/shaders/ and
+//                                               the opt-in SOURCE_DIR/materialx/rp_pbrlib_closure/.
+//   retroprism_glsl_gen SOURCE_DIR --check      compares those files with what glsl_gen
 //                                               generates (exit 1 on any difference).
 #include <cstdio>
 #include <filesystem>
@@ -20,6 +22,7 @@
 #include <vector>
 
 #include "glsl_gen.h"
+#include "osl_gen.h"
 
 namespace {
 
@@ -107,13 +110,13 @@ void write_build_files(const std::string& root, const fs::path& out) {
     std::printf("glsl_gen: wrote %zu files to %s\n", variants.size() + 1, out.string().c_str());
 }
 
-// The number of files of the checked-in MaterialX library that differ from what glsl_gen
+// The number of the checked-in `files` (relative to `dir`) that differ from what glsl_gen
 // generates.
-int check_materialx(const std::string& root) {
-    const Files files = materialx_files(root);
+int check_files(const std::string& root, const fs::path& dir, const Files& files,
+                const char* what) {
     int differing = 0;
     for (const auto& [rel, text] : files) {
-        const fs::path path = fs::path(root) / "materialx" / rel;
+        const fs::path path = dir / rel;
         if (!fs::exists(path) || read_text(path) != text) {
             std::fprintf(stderr,
                          "%s: differs from what glsl_gen generates (run retroprism_glsl_gen %s "
@@ -122,7 +125,7 @@ int check_materialx(const std::string& root) {
             ++differing;
         }
     }
-    std::printf("glsl_gen: %d of %zu MaterialX library files differ\n", differing, files.size());
+    std::printf("glsl_gen: %d of %zu %s files differ\n", differing, files.size(), what);
     return differing;
 }
 
@@ -139,9 +142,16 @@ int main(int argc, char** argv) {
     const std::string root = argv[1];
     try {
         if (mode == "--out") write_build_files(root, argv[3]);
-        if (mode == "--materialx")
+        if (mode == "--materialx") {
             write_all(fs::path(root) / "materialx", materialx_files(root), true);
-        if (mode == "--check") return check_materialx(root) == 0 ? 0 : 1;
+            write_all(root, retroprism::glsl::generate_osl(), true);
+        }
+        if (mode == "--check") {
+            const int differing = check_files(root, fs::path(root) / "materialx",
+                                              materialx_files(root), "MaterialX library") +
+                                  check_files(root, root, retroprism::glsl::generate_osl(), "OSL");
+            return differing == 0 ? 0 : 1;
+        }
     } catch (const std::exception& e) {
         std::fprintf(stderr, "retroprism_glsl_gen: %s\n", e.what());
         return 1;

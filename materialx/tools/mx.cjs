@@ -8,7 +8,9 @@
 //       the shaders of every material for the targets T (default: all of glsl, essl, vulkan,
 //       msl, osl, mdl) as MATERIAL.T.vert and .frag (OSL and MDL: MATERIAL.osl, MATERIAL.mdl);
 //       --portable loads the library without its genglsl implementation, so that the GLSL
-//       targets too use the portable nodegraph (how its GLSL is measured on OpenGL).
+//       targets too use the portable nodegraph (how its GLSL is measured on OpenGL);
+//       --osl-closure also loads the opt-in library materialx/rp_pbrlib_closure, whose genosl
+//       implementation calls the renderer's retroprism_bsdf closure instead of the nodegraph.
 //       For glsl, MATERIAL.glsl.json beside the shaders: the pixel stage's public uniforms
 //       (variable, type, the element path, the value; for filename inputs the value with the
 //       document's fileprefix applied, for colour inputs their active colour space) and the
@@ -17,6 +19,9 @@
 //       Before generating, each document is checked: every node must have a nodedef (an
 //       unknown node or a node whose inputs match no signature), the document must pass
 //       MaterialX's validate(); the message names the element and the file.
+//   node mx.cjs osl-includes OUTDIR             writes MaterialX's genosl include folder
+//       (libraries/stdlib/genosl/include: mx_funcs.h, vector2.h, ...), which the generated OSL
+//       includes, as OUTDIR/*.h: oslc's include path for compiling it.
 //
 // Exit status 0 when everything succeeded; messages name the document and what failed.
 'use strict';
@@ -26,6 +31,7 @@ const path = require('path');
 
 const BIN = path.join(__dirname, 'node_modules', '@needle-tools', 'materialx', 'bin');
 const LIBRARY = path.resolve(__dirname, '..', 'rp_pbrlib');
+const CLOSURE_LIBRARY = path.resolve(__dirname, '..', 'rp_pbrlib_closure');
 
 async function loadMaterialX() {
   // The module ends with an ES `export default`; a CommonJS copy of it loads with require.
@@ -58,13 +64,21 @@ function listFiles(dir, rel = '') {
 
 // Copies rp_pbrlib into the module's virtual file system (source search path "/") and reads
 // its documents, with source URIs so that implementation files resolve.
-async function loadLibrary(mx, portable) {
+async function loadLibrary(mx, portable, oslClosure) {
   const lib = mx.createDocument();
-  for (const rel of listFiles(LIBRARY)) {
-    if (portable && rel.split(path.sep)[0] === 'genglsl') continue;
-    const dir = path.posix.join('rp_pbrlib', path.dirname(rel).split(path.sep).join('/'));
+  await loadFolder(mx, lib, LIBRARY, (rel) => !(portable && rel.split(path.sep)[0] === 'genglsl'));
+  if (oslClosure) await loadFolder(mx, lib, CLOSURE_LIBRARY, () => true);
+  return lib;
+}
+
+// The files of one library folder (those `keep` accepts) into the virtual file system under
+// its name, its documents imported into `lib`.
+async function loadFolder(mx, lib, folder, keep) {
+  for (const rel of listFiles(folder)) {
+    if (!keep(rel)) continue;
+    const dir = path.posix.join(path.basename(folder), path.dirname(rel).split(path.sep).join('/'));
     mx.FS_createPath('/', dir, true, true);
-    const data = fs.readFileSync(path.join(LIBRARY, rel));
+    const data = fs.readFileSync(path.join(folder, rel));
     mx.FS_createDataFile('/' + dir, path.basename(rel), data, true, true, true);
     if (rel.endsWith('.mtlx')) {
       const doc = mx.createDocument();
@@ -73,7 +87,23 @@ async function loadLibrary(mx, portable) {
       lib.importLibrary(doc);
     }
   }
-  return lib;
+}
+
+// MaterialX's genosl include files, from the package's data file (the files of the standard
+// libraries, at the offsets its loader script lists); the number written.
+function writeOslIncludes(outDir) {
+  const loader = fs.readFileSync(path.join(BIN, 'JsMaterialXGenShader.js'), 'utf8');
+  const data = fs.readFileSync(path.join(BIN, 'JsMaterialXGenShader.data.txt'));
+  const prefix = '/libraries/stdlib/genosl/include/';
+  const entry = /filename:"([^"]+)",start:(\d+),end:(\d+)/g;
+  fs.mkdirSync(outDir, { recursive: true });
+  let written = 0;
+  for (let m; (m = entry.exec(loader));) {
+    if (!m[1].startsWith(prefix)) continue;
+    fs.writeFileSync(path.join(outDir, m[1].substring(prefix.length)), data.subarray(+m[2], +m[3]));
+    written++;
+  }
+  return written;
 }
 
 async function context(mx, generator, lights) {
@@ -261,15 +291,21 @@ async function main() {
   const command = argv[0];
   let args = argv.slice(1);
   const portable = args.includes('--portable');
-  args = args.filter((a) => a !== '--portable');
+  const oslClosure = args.includes('--osl-closure');
+  args = args.filter((a) => a !== '--portable' && a !== '--osl-closure');
   let targetNames = ['glsl', 'essl', 'vulkan', 'msl', 'osl', 'mdl'];
   const t = args.indexOf('--targets');
   if (t >= 0) {
     targetNames = (args[t + 1] || '').split(',');
     args.splice(t, 2);
   }
+  if (command === 'osl-includes') {
+    const written = args.length === 1 ? writeOslIncludes(args[0]) : 0;
+    console.log(`osl-includes: wrote ${written} files`);
+    process.exit(written > 0 ? 0 : 1);
+  }
   const mx = await loadMaterialX();
-  const lib = await loadLibrary(mx, portable);
+  const lib = await loadLibrary(mx, portable, oslClosure);
   let failures = 0;
   if (command === 'validate') {
     const { stdlib } = await context(mx, mx.GlslShaderGenerator, false);
@@ -325,7 +361,7 @@ async function main() {
       for (const file of files) failures += await generateDocument(mx, file, name, hw, gen, ctx, stdlib, lib, outDir, checked);
     }
   } else {
-    console.log('usage: node mx.cjs validate DOC... | implementations | generate [--portable] [--targets T,...] DOC... OUTDIR');
+    console.log('usage: node mx.cjs validate DOC... | implementations | generate [--portable] [--osl-closure] [--targets T,...] DOC... OUTDIR | osl-includes OUTDIR');
     process.exit(2);
   }
   process.exit(failures === 0 ? 0 : 1);

@@ -292,6 +292,33 @@ TEST_CASE("Every document generates for GLSL, ESSL, Vulkan, MSL, OSL and MDL", "
     CHECK(files == 6 * int(g.documents.size()));
 }
 
+TEST_CASE("With the opt-in library rp_pbrlib_closure, OSL calls the retroprism_bsdf closure",
+          "[materialx]") {
+    // materialx/rp_pbrlib_closure's genosl implementation, for renderers that registered the
+    // closure (docs/osl.md), wins over the portable nodegraph; oslc and liboslexec run the result
+    // where OSL is found ([osl]).
+    const fs::path dir =
+        fs::temp_directory_path() / ("retroprism_mx_osl_closure_" + std::to_string(::getpid()));
+    std::string list;
+    const std::vector<fs::path> docs = example_documents(false);
+    for (const fs::path& d : docs)
+        list += " " + d.string();
+    std::string out;
+    const int st = run("node " + kTool.string() + " generate --osl-closure --targets osl" + list +
+                           " " + dir.string(),
+                       out);
+    INFO(out);
+    REQUIRE(st == 0);
+    for (const fs::path& d : docs) {
+        INFO(d.string());
+        const std::string code = read_text(dir / (d.stem().string() + ".osl"));
+        CHECK(code.find("bsdf = retroprism_bsdf(") != std::string::npos);
+        CHECK(code.find("closure color retroprism_bsdf(") != std::string::npos);
+        CHECK(code.find("NG_rp_prismatic_retroreflector_bsdf") == std::string::npos);
+    }
+    fs::remove_all(dir);
+}
+
 TEST_CASE("GLSL, ESSL and Vulkan shaders generate for every example and compile", "[materialx]") {
     const fs::path& dir = example_shaders();
     int compiled = 0, expected = 0;
