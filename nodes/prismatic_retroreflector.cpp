@@ -475,21 +475,23 @@ PrismaticRetroreflector<Real>::albedo(const vec3& wiWorld, int grid) const {
 
 // The retro lobe's albedo with diffraction: the same estimator over the lobe's sampling map with
 // the map's discrete choices (channel, term of the pattern) summed with their probabilities
-// instead of drawn, each term's Gaussian on a midpoint grid of grid / 4 (at least 8) per side
-// and its ring (dihedral errors) at kAlbedoRingPoints angles.
+// instead of drawn: each term's Gaussian on a midpoint grid of about its share of grid^2 points
+// (at least one: side ceil(sqrt(weight grid^2))), and its ring (dihedral errors) at
+// kAlbedoRingPoints / 4 angles, so that the work is about that of the geometric lobe's.
 template <class Real>
 typename PrismaticRetroreflector<Real>::vec3 PrismaticRetroreflector<Real>::diffraction_albedo(
     const vec3& wi, const typename core<Real>::incident& s, int grid) const {
     const bool grey = m_.diff_scale.x == m_.diff_scale.y && m_.diff_scale.y == m_.diff_scale.z;
     const int channels = grey ? 1 : 3;
-    const int side = std::max(8, grid / 4);
-    const int rings = s.ringPar2 + s.ringPerp2 > 0 ? kAlbedoRingPoints : 1;
+    const int rings = s.ringPar2 + s.ringPerp2 > 0 ? kAlbedoRingPoints / 4 : 1;
     const int terms = diffraction_terms(m_);
     double sum[3] = {0, 0, 0};
     for (int ch = 0; ch < channels; ++ch) {
         const Real scale = m_.diff_scale[ch];
         for (int t = 0; t < terms; ++t) {
             const auto term = diffraction_term_of(m_, s, t);
+            const int side =
+                std::max(1, int(std::ceil(std::sqrt(double(term.x) * double(grid) * grid))));
             const double weight = double(term.x) / (double(channels) * side * side * rings);
             for (int k = 0; k < rings; ++k)
                 for (int i = 0; i < side; ++i)
