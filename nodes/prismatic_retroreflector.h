@@ -179,14 +179,16 @@ SeriesCacheStats azimuth_series_cache_stats();
 
 // The indices of refraction below which canted prisms keep integrating: t_end = 1 / sqrt(eta^2
 // - 1), the largest tan(theta_t) of light refracted from outside, grows without bound as eta
-// approaches 1 (3.1 at 1.05).
+// approaches 1 (3.1 at 1.05). Uncoated prisms of the paper's cube keep integrating below it too:
+// their critical angle goes to 0 with eta - 1, and the series' refinement about it with it (at
+// ior 1 + 2e-16 it does not end in minutes).
 constexpr double kSeriesMinEtaCanted = 1.05;
 
 // Points m.azimuth_series at the series of m's azimuth averages where the core would integrate
 // them at every evaluation: the averaged ERA with canted prisms (ior at least
-// kSeriesMinEtaCanted), or the paper's cube with uncoated prisms in the exact tier; as the node
-// does for its own material (any precision or generated variant of the core). Returns the
-// series, null when m does not use one; it must outlive every use of m.
+// kSeriesMinEtaCanted), or the paper's cube with uncoated prisms in the exact tier (the same ior
+// bound); as the node does for its own material (any precision or generated variant of the core).
+// Returns the series, null when m does not use one; it must outlive every use of m.
 template <class Material>
 auto attach_azimuth_series(Material& m) {
     using R = std::remove_cv_t<decltype(m.eta)>;
@@ -198,7 +200,8 @@ auto attach_azimuth_series(Material& m) {
     a.hits = m.prism_reflection == f64::RP_PRISM_METALLIZED;
     if (m.canted != 0 && a.eta >= kSeriesMinEtaCanted) {
         a.t_end = 1.0 / std::sqrt((a.eta - 1.0) * (a.eta + 1.0));
-    } else if (m.canted == 0 && a.tir && m.fidelity == f64::RP_FIDELITY_EXACT) {
+    } else if (m.canted == 0 && a.tir && m.fidelity == f64::RP_FIDELITY_EXACT &&
+               a.eta >= kSeriesMinEtaCanted) {
         a.t_end = f64::RP_ERA_TAN_MAX;
     } else {
         return series;
