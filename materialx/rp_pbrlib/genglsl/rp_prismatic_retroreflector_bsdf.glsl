@@ -1864,6 +1864,8 @@ const float RP_DIFF_CORE_WEIGHT = float(0.65);
 // paraxial Fraunhofer pattern stands for nothing beyond, and wider terms would put their mass at
 // the horizon of wi.
 const float RP_DIFF_MAX_WIDTH2 = float(1.0);
+// The smallest pitch taken as given (um): below it lambda / pitch could overflow.
+const float RP_DIFF_MIN_PITCH_UM = float(0.001);
 // The least share of the pattern's peak left to its core.
 const float RP_DIFF_MIN_CORE_PEAK = float(0.05);
 // Uncoated and metallised prisms' face orders (rp_diffraction_coherence): the coherent share c
@@ -2838,7 +2840,9 @@ void rp_prepare_diffraction(inout rp_material m, float pitchUm, float wavelength
                                   float cantDeg) {
     m.diffraction = 1;
     vec3 lam = wavelengthNm > float(0.0) ? vec3(wavelengthNm * float(0.001)) : RP_CHANNEL_WAVELENGTHS;
-    m.diff_scale = lam / pitchUm;
+    // Pitches below RP_DIFF_MIN_PITCH_UM take it: lambda / pitch stays finite (its pattern then
+    // spreads to RP_DIFF_MAX_WIDTH2 anyway).
+    m.diff_scale = lam / max(pitchUm, RP_DIFF_MIN_PITCH_UM);
     m.diff_coherence = rp_diffraction_coherence(m.prism_reflection, m.eta);
     // The paper's cube: faces at the vertex azimuths 0 and +-120 degrees (MODEL.md section 2).
     float third = float(2.0) * RP_PI / float(3.0);
