@@ -1128,6 +1128,24 @@ Tally sweep_gl_backend(Backend& gl, const Options& opt) {
 
 } // namespace
 
+Options quick_options(const std::string& backend) {
+    Options opt;
+    opt.pair_stride = backend == "materialx" ? 13 : 7;
+    const long materials = hard_material_count();
+    const long perMaterial = long(pairs_per_material()) / opt.pair_stride + 1;
+    opt.cpp_evaluations = std::max(1000000L, materials * perMaterial);
+    opt.gl_evaluations = backend == "materialx" ? materials * perMaterial
+                                                : std::max(500000L, materials * perMaterial);
+    return opt;
+}
+
+Options sized_options(long cppEvaluations) {
+    Options opt;
+    opt.cpp_evaluations = cppEvaluations;
+    opt.gl_evaluations = std::max(1L, cppEvaluations / 10);
+    return opt;
+}
+
 Tally sweep_backend(const std::string& name, const Options& opt) {
     const auto t0 = std::chrono::steady_clock::now();
     Tally t = name == "cpp-double"  ? sweep_cpp<double>(opt)

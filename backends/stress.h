@@ -24,6 +24,17 @@ struct Options {
     int pair_stride = 1;
 };
 
+// The bounded sweep of `backend` (`check --stress --quick`, the ctest entry stress_ci): every
+// enum/boolean combination and single-input hard value on every seventh direction pair (every
+// 13th for materialx, the slowest), then random hard materials up to 1e6 evaluations for the C++
+// backends and 5e5 for glsl; materialx the hard materials alone. A tenth of the full sweep's
+// C++ evaluations, half of its GL ones.
+Options quick_options(const std::string& backend);
+
+// The full sweep sized by `cppEvaluations` per C++ backend (`check --stress --evaluations N`):
+// GL backends get a tenth of it, as in the default Options.
+Options sized_options(long cppEvaluations);
+
 // The sweep of one backend (a name of backend_names()) under `opt`; InputError naming the known
 // backends for any other name. Materials 0, 1, 2, ... of material() until the evaluation budget
 // is spent.

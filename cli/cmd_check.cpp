@@ -2,6 +2,7 @@
 // contract (backends/check.h) and every approximation's accuracy (backends/approximation.h, R_A
 // tables by analysis/photometry.h), or the adversarial sweep (backends/stress.h).
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -12,6 +13,7 @@
 #include "check.h"
 #include "commands.h"
 #include "error.h"
+#include "parse.h"
 #include "photometry.h"
 #include "stress.h"
 #include "stress_table.h"
@@ -83,12 +85,19 @@ int cmd_check(int argc, const char** argv) {
     ap.intro("retroprism check: every backend (or --backend NAME) against cpp-double over the "
              "deterministic query set, under the tolerance contract of backends/check.h; an "
              "approximation (materialx-portable) by its accuracy on the bundled sheetings")
-        .usage("retroprism check [--backend NAME]");
+        .usage("retroprism check [--backend NAME] [--stress [--quick | --evaluations N]]");
     ap.arg("--backend NAME").help("one backend only (default: all)");
     ap.arg("--stress")
         .help("the adversarial sweep instead: counts of NaN, Inf, negative values "
               "and sample/pdf inconsistencies")
         .store_true();
+    ap.arg("--quick")
+        .help("with --stress: the bounded sweep of the ctest entry stress_ci (a tenth of the C++ "
+              "evaluations, half the GL ones)")
+        .store_true();
+    ap.arg("--evaluations N")
+        .help("with --stress: evaluations per C++ backend (default 1e7; a GL backend gets a "
+              "tenth)");
     int status = 0;
     if (!parse_command_args(ap, argc, argv, status)) return status;
     std::vector<std::string> backends = backend_names();
@@ -103,9 +112,24 @@ int cmd_check(int argc, const char** argv) {
     }
     if (ap["stress"].get<int>()) {
         if (backends.empty()) throw InputError("--stress: " + only + " is an approximation");
+        const bool quick = ap["quick"].get<int>() != 0;
+        const std::string given = ap["evaluations"].get<std::string>();
+        if (quick && !given.empty())
+            throw InputError("--evaluations: not with --quick (the bounded sweep has its size)");
+        const double n = given.empty() ? 1e7 : double(parse_count(given, "--evaluations", 1, 1e12));
+        if (quick)
+            std::printf("size: the bounded sweep (--quick): the hard materials on every 7th "
+                        "direction pair (materialx every 13th), at least 1e6 evaluations per C++ "
+                        "backend and 5e5 for glsl\n");
+        else
+            std::printf("size: at least %.0f evaluations per C++ backend, %.0f per GL backend "
+                        "(--evaluations N; --quick for the bounded sweep)\n",
+                        n, std::max(1.0, std::floor(n / 10)));
+        std::fflush(stdout);
         StressTable table(stress::coverage(), stdout);
         for (const std::string& b : backends)
-            table.add(stress::sweep_backend(b));
+            table.add(stress::sweep_backend(b, quick ? stress::quick_options(b)
+                                                     : stress::sized_options(long(n))));
         return table.finish() ? 0 : 1;
     }
     bool all = true;

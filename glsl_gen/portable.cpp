@@ -603,7 +603,8 @@ Val dispersed_ior(Graph& g) {
     const double lineD = f64::RP_LINE_D, lineF = f64::RP_LINE_F, lineC = f64::RP_LINE_C;
     const double k = 1.0 / (lineF * lineF) - 1.0 / (lineC * lineC);
     Val b = g.div(g.sub(nD, Graph::f(1)), g.mul(g.max(abbe, Graph::f(1e-6)), Graph::f(k)));
-    Val invLam2 = g.div(Graph::f(1e6), g.mul(g.max(nm, Graph::f(1e-6)), g.max(nm, Graph::f(1e-6))));
+    Val nmFloor = g.max(nm, Graph::f(f64::RP_MIN_WAVELENGTH_NM));
+    Val invLam2 = g.div(Graph::f(1e6), g.mul(nmFloor, nmFloor));
     Val n = g.clamp(g.add(nD, g.mul(b, g.sub(invLam2, Graph::f(1.0 / (lineD * lineD))))), 1, 3);
     return g.if_ge(Graph::f(0), abbe, nD, g.if_ge(Graph::f(0), nm, nD, n));
 }
@@ -646,8 +647,10 @@ Val retro_lobe(Graph& g, const Sheet& s, const Val& alpha, const Val& c, const V
         "isotropic width (docs/diffraction.md)");
     Val pitch = float_input(g, "prism_pitch");
     Val nm = float_input(g, "wavelength");
-    Val lam = g.if_ge(Graph::f(0), nm, Graph::f(0.55), g.mul(nm, Graph::f(0.001)));
-    Val ratio = g.if_ge(Graph::f(0), pitch, Graph::f(0), g.div(lam, g.max(pitch, Graph::f(1e-6))));
+    Val lam = g.if_ge(Graph::f(0), nm, Graph::f(0.55),
+                      g.mul(g.max(nm, Graph::f(f64::RP_MIN_WAVELENGTH_NM)), Graph::f(0.001)));
+    Val ratio = g.if_ge(Graph::f(0), pitch, Graph::f(0),
+                        g.div(lam, g.max(pitch, Graph::f(f64::RP_DIFF_MIN_PITCH_UM))));
     Val var2 = g.mul(g.mul(ratio, ratio), Graph::f(2 * diffraction_core_variance()));
     auto widenAll = [&](const Val& width, const Val& mag2, const Val& diff2) {
         return g.sqrt(g.add(g.add(g.mul(width, width), g.mul(var8, mag2)), diff2));

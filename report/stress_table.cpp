@@ -61,7 +61,11 @@ bool StressTable::finish() {
         print_notes(out_, t);
         ok = ok && t.passed();
     }
-    std::fprintf(out_, "stress: %s\n", ok ? "pass" : "FAIL");
+    double seconds = 0;
+    for (const stress::Tally& t : tallies_)
+        seconds += t.seconds;
+    std::fprintf(out_, "stress: %s (%zu backend%s, %.1f s)\n", ok ? "pass" : "FAIL",
+                 tallies_.size(), tallies_.size() == 1 ? "" : "s", seconds);
     return ok;
 }
 

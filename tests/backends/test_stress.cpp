@@ -46,17 +46,10 @@ std::vector<std::uint8_t> read_bytes(const fs::path& p) {
 
 // Runs the bounded sweep of one backend and reports it as the command does.
 stress::Tally bounded_sweep(const std::string& backend) {
-    stress::Options opt;
-    // Every combination and single-input hard value (434 materials) on every seventh pair,
-    // then random hard materials: 1e6 evaluations for the C++ backends, 5e5 for glsl;
-    // materialx (about 3e4 evaluations per second on llvmpipe) on every 13th pair of the same
-    // 434 materials alone.
-    opt.pair_stride = backend == "materialx" ? 13 : 7;
-    const long materials = stress::hard_material_count();
-    const long perMaterial = long(stress::coverage().pairs_per_material) / opt.pair_stride + 1;
-    opt.cpp_evaluations = std::max(1000000L, materials * perMaterial);
-    opt.gl_evaluations = backend == "materialx" ? materials * perMaterial
-                                                : std::max(500000L, materials * perMaterial);
+    // Every combination and single-input hard value (the hard materials) on every seventh pair,
+    // then random hard materials: 1e6 evaluations for the C++ backends, 5e5 for glsl; materialx
+    // on every 13th pair of the hard materials alone.
+    const stress::Options opt = stress::quick_options(backend);
     const stress::Tally t = stress::sweep_backend(backend, opt);
     StressTable table(stress::coverage(), stdout);
     table.add(t);
@@ -168,6 +161,31 @@ TEST_CASE("check --stress rejects an unknown backend", "[stress]") {
     }
 }
 
+TEST_CASE("check --stress states its size and takes --evaluations and --quick", "[stress]") {
+    // One material of the full generator (2746 pairs) through cpp-double.
+    Run r = run_cli("check --stress --backend cpp-double --evaluations 2000");
+    CHECK(r.status == 0);
+    CHECK(contains(r.output, "size: at least 2000 evaluations per C++ backend, 200 per GL"));
+    // One material: its pairs are the row's evaluations.
+    CHECK(contains(r.output, " " + std::to_string(stress::coverage().pairs_per_material) + " "));
+    CHECK(contains(r.output, "stress: pass (1 backend, "));
+    for (const char* bad : {"0", "-5", "nan", "1e13"}) {
+        r = run_cli(std::string("check --stress --backend cpp-double --evaluations ") + bad);
+        CHECK(r.status != 0);
+        CHECK(contains(r.output, "--evaluations"));
+        CHECK(contains(r.output, "expected a whole number in [1, 1000000000000]"));
+    }
+    r = run_cli("check --stress --quick --evaluations 5000");
+    CHECK(r.status != 0);
+    CHECK(contains(r.output, "not with --quick"));
+    // The bounded sweep's sizes.
+    const stress::Options quick = stress::quick_options("cpp-float");
+    CHECK(quick.pair_stride == 7);
+    CHECK(quick.cpp_evaluations >= 1000000);
+    CHECK(stress::quick_options("materialx").pair_stride == 13);
+    CHECK(stress::sized_options(123).gl_evaluations == 12);
+}
+
 TEST_CASE("the fuzz corpus replays cleanly", "[stress]") {
     const fs::path corpus = fs::path(RP_SOURCE_DIR) / "fuzz" / "corpus";
     struct Target {
@@ -274,4 +292,49 @@ TEST_CASE("regression: materialx gives zero, not NaN, for a non-finite view dire
             for (const nlohmann::json& v : r.at(key))
                 CHECK((v.is_number() && v.get<double>() == 0.0));
     }
+}
+
+TEST_CASE("regression: diffraction at a vanishing wavelength and near the horizon of wi",
+          "[stress]") {
+    // Found by the sweep: (1) a wavelength of 1e-300 nm (or a denormal) made the dispersion
+    // law's 1 / lambda^2 infinite, and with ior 1 (b = 0) the index 0 * inf = NaN: the diffuse
+    // lobe was NaN; and lambda / pitch underflowed to 0, a zero-width pattern: the retro lobe 0.
+    // Wavelengths below RP_MIN_WAVELENGTH_NM (1 nm) are taken as it: the node at 1e-300 nm is
+    // the node at 1 nm. (2) In float, wo 90 degrees from wi (cos 1e-8) gave 1 / cos^3 = inf times
+    // the pattern's zero: NaN in the retro lobe and the pdf.
+    Params p;
+    p.ior = 1.0;
+    p.abbe_number = 57.3;
+    p.prism_pitch = 1e-3;
+    p.cant_angle = 30.0;
+    p.dihedral_error = 48.0;
+    Params at1 = p;
+    at1.wavelength = 1.0;
+    const glm::dvec3 n(0, 0, 1), w1(-4.9406564584124654e-324, 0, 1);
+    for (double tiny : {4.9406564584124654e-324, 1e-300, 1e-10, 0.5}) {
+        Params q = p;
+        q.wavelength = tiny;
+        INFO("wavelength " << tiny);
+        const auto a = PrismaticRetroreflector<double>(q).eval(n, w1);
+        const auto b = PrismaticRetroreflector<double>(at1).eval(n, w1);
+        CHECK(a.f.diffuse.x == b.f.diffuse.x);
+        CHECK(a.f.retro.x == b.f.retro.x);
+        CHECK(a.pdf == b.pdf);
+        CHECK(a.f.retro.x > 0);
+    }
+    Params g;
+    g.roughness = 0.78;
+    g.cant_angle = 24.26;
+    g.dihedral_error = 38.0;
+    g.dihedral_spread = 59.9;
+    g.prism_pitch = 1632.0;
+    g.wavelength = 1871.0;
+    g.retro_lobe = 1;
+    const PrismaticRetroreflector<float> node(g);
+    const glm::vec3 wi(-5.6892428546007068e-08f, 8.2238990728455974e-08f, 1.0f);
+    const glm::vec3 wo(0.56892430782318115f, -0.82238990068435669f, 1.0000000116860974e-07f);
+    const auto e = node.eval(wi, wo);
+    CHECK(e.f.retro.x == 0.0f);
+    CHECK(std::isfinite(e.pdf));
+    CHECK(e.pdf >= 0.0f);
 }

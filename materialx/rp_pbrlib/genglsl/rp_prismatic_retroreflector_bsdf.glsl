@@ -1854,6 +1854,10 @@ const int RP_LOBE_SURFACE = 0;
 const int RP_LOBE_RETRO = 1;
 const int RP_LOBE_DIFFUSE = 2;
 
+// The shortest wavelength taken as given (nm): below it the dispersion law's 1 / lambda^2 and
+// lambda / pitch could overflow or vanish (X-rays are beyond the model anyway).
+const float RP_MIN_WAVELENGTH_NM = float(1.0);
+
 // ---- The diffraction lobe's constants (docs/diffraction.md) ------------------------------
 // Prism orientations of the averaged mode's midpoint rule over the symmetry period.
 const int RP_DIFF_ORIENTATIONS = 12;
@@ -2793,7 +2797,7 @@ float rp_dispersed_ior(float nD, float abbe, float wavelengthNm) {
     if (!(abbe > float(0.0)) || !(wavelengthNm > float(0.0))) return nD;
     float b = (nD - float(1.0)) /
              (abbe * (float(1.0) / (RP_LINE_F * RP_LINE_F) - float(1.0) / (RP_LINE_C * RP_LINE_C)));
-    float lam = wavelengthNm * float(0.001);
+    float lam = max(wavelengthNm, RP_MIN_WAVELENGTH_NM) * float(0.001);
     return clamp(nD + b * (float(1.0) / (lam * lam) - float(1.0) / (RP_LINE_D * RP_LINE_D)),
                  float(1.0), float(3.0));
 }
@@ -2839,7 +2843,9 @@ vec2 rp_diffraction_coherence(int prismReflection, float eta) {
 void rp_prepare_diffraction(inout rp_material m, float pitchUm, float wavelengthNm,
                                   float cantDeg) {
     m.diffraction = 1;
-    vec3 lam = wavelengthNm > float(0.0) ? vec3(wavelengthNm * float(0.001)) : RP_CHANNEL_WAVELENGTHS;
+    vec3 lam = wavelengthNm > float(0.0)
+                   ? vec3(max(wavelengthNm, RP_MIN_WAVELENGTH_NM) * float(0.001))
+                   : RP_CHANNEL_WAVELENGTHS;
     // Pitches below RP_DIFF_MIN_PITCH_UM take it: lambda / pitch stays finite (its pattern then
     // spreads to RP_DIFF_MAX_WIDTH2 anyway).
     m.diff_scale = lam / max(pitchUm, RP_DIFF_MIN_PITCH_UM);
@@ -3508,11 +3514,15 @@ vec3 rp_diffraction_density(in rp_material m, in rp_incident s, vec3 wo, vec3 wi
     float invCosP = float(1.0) / cosP;
     float sx = dot(dw, s.ePar) * invCosP;
     float sy = dot(dw, s.ePerp) * invCosP;
-    float jac = invCosP * invCosP * invCosP;
     float red = rp_diffraction_channel(m, s, m.diff_scale.x, sx, sy);
-    if (rp_diffraction_grey(m)) return vec3(jac * red);
-    return jac * vec3(red, rp_diffraction_channel(m, s, m.diff_scale.y, sx, sy),
-                      rp_diffraction_channel(m, s, m.diff_scale.z, sx, sy));
+    vec3 d = vec3(red);
+    if (!rp_diffraction_grey(m))
+        d = vec3(red, rp_diffraction_channel(m, s, m.diff_scale.y, sx, sy),
+                 rp_diffraction_channel(m, s, m.diff_scale.z, sx, sy));
+    // Zero first: far from the lobe (wo near the horizon of wi) 1 / cos^3 overflows a float,
+    // and every channel's density is zero there.
+    if (!(d.x > float(0.0) || d.y > float(0.0) || d.z > float(0.0))) return vec3(float(0.0));
+    return invCosP * invCosP * invCosP * d;
 }
 
 // The pattern's terms for the incident state s: term 0 its core, term j > 0 scale j - 1 of its
