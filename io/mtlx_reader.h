@@ -1,21 +1,21 @@
 // mtlx_reader.h: MaterialX documents (.mtlx) that use the node `rp_prismatic_retroreflector_bsdf`
 // with constant inputs, read with pugixml.
 //
-// Supported: a <materialx version="1.38" or later> root holding only these elements:
-//   <surfacematerial name=".." type="material">  with one input surfaceshader (nodename) ->
-//   <surface name=".." type="surfaceshader">     with input bsdf (nodename), and optionally
-//                                                 opacity = 1, thin_walled = false ->
-//   <rp_prismatic_retroreflector_bsdf name=".." type="BSDF">  with constant inputs (`value`
-//                                                 attributes) named and typed as in the node's
-//                                                 parameter table (float, color3, string enums,
-//                                                 boolean, vector3), within its ranges.
+// Supported: a `<materialx version="1.38" or later>` root holding only these elements:
+// - `<surfacematerial name=".." type="material">` with one input surfaceshader (nodename) ->
+// - `<surface name=".." type="surfaceshader">` with input bsdf (nodename), and optionally
+//   opacity = 1, thin_walled = false ->
+// - `<rp_prismatic_retroreflector_bsdf name=".." type="BSDF">` with constant inputs (`value`
+//   attributes) named and typed as in the node's parameter table (float, color3, string enums,
+//   boolean, vector3), within its ranges.
+//
 // Several materials may share a document; they are listed in document order. Colour inputs
 // carry a colour space: the input's `colorspace` attribute, else its node's, else the
 // document's, else lin_rec709 (MaterialX's default working space). The reader keeps colours as
 // written and names their colour space; to_working_space() converts them.
 // Anything else (node graphs, other node categories, connections other than the chain above,
 // unknown or duplicate inputs, wrong types, malformed or out-of-range values, a missing chain
-// element, malformed XML) is an InputError "FILE:LINE: <element name="..">: what is expected".
+// element, malformed XML) is an InputError `FILE:LINE: <element name="..">: what is expected`.
 #pragma once
 
 #include <functional>
@@ -65,8 +65,8 @@ MtlxDocument read_mtlx(const std::string& path);
 // order) and whether an input of the chain's nodes is connected to anything other than the
 // chain (nodename, nodegraph, output or interfacename). A document with neither is the
 // reader's (read_mtlx takes it or names what is wrong); one with either is a graph, which real
-// MaterialX renders (backends/mx_night.h). Malformed XML or a root other than <materialx> is an
-// InputError "FILE:LINE:COL: ...".
+// MaterialX renders (backends/mx_night.h). Malformed XML or a root other than `<materialx>` is
+// an InputError "FILE:LINE:COL: ...".
 struct MtlxOutline {
     std::vector<std::string> materials;
     std::vector<std::string> otherCategories;

@@ -1,7 +1,7 @@
 // mtlx_writer.h: MaterialX documents of the node's materials, the form io/mtlx_reader.h reads:
-// per material the chain <rp_prismatic_retroreflector_bsdf> -> <surface> -> <surfacematerial>,
-// every input of the parameter table with a constant value except the vectors (normal and
-// tangent keep their geometric defaults), colours in lin_rec709.
+// per material the chain `<rp_prismatic_retroreflector_bsdf>` -> `<surface>` ->
+// `<surfacematerial>`, every input of the parameter table with a constant value except the
+// vectors (normal and tangent keep their geometric defaults), colours in lin_rec709.
 #pragma once
 
 #include <string>

@@ -16,7 +16,7 @@ namespace retroprism {
 // Reads a JSON document from a file, or from standard input when path is "-".
 nlohmann::json read_json(const std::string& path);
 
-// The node's parameters from a JSON object {<input>: value}: floats as numbers, colours as
+// The node's parameters from a JSON object `{<input>: value}`: floats as numbers, colours as
 // [r, g, b], enums as one of their strings, vectors as [x, y, z]. Omitted inputs take their
 // defaults; unknown names, wrong types and values outside the table's range are InputErrors
 // naming `where` (e.g. "query.json: material").
@@ -38,7 +38,7 @@ struct Query {
 Query parse_query(const nlohmann::json& j, const std::string& source);
 
 // The parameter table as Markdown (name, type, default, range or values, description): the
-// README's table is this text.
+// inputs table of docs/model.md is this text.
 std::string params_markdown();
 
 // The parameter table as JSON, an array in table order of {"name", "type" (MaterialX's: float,

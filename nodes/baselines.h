@@ -134,8 +134,9 @@ struct RetroreflectiveGGXT {
         vec3 total() const { return specular + diffuse; }
     };
 
-    // The two lobes with `specular` = 1 and `color` = 1 factored out: f = specular * s * tint
-    // + color * d * (1 - specular * e). For the fitter (linear in specular and color).
+    // The two lobes with `specular` = 1 and `color` = 1 factored out:
+    // f = specular * s * tint + color * d * (1 - specular * e). For the fitter (linear in
+    // specular and color).
     struct Unit {
         Real s = 0; // GGX retro lobe, unit weight and tint
         Real d = 0; // Lambert base with unit colour: 1 / pi

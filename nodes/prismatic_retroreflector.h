@@ -1,6 +1,7 @@
 // prismatic_retroreflector.h: the closure-like node of retroreflective prismatic sheeting
-// (Guo, Guo & Pan, "A retroreflective BRDF model based on prismatic sheeting and microfacet
-// theory", Graphical Models 96 (2018) 38-46), as specified by MODEL.md.
+// (Guo, Guo & Pan, Graphical Models 96 (2018) 38-46,
+// "A retroreflective BRDF model based on prismatic sheeting and microfacet theory"), as
+// specified by MODEL.md.
 //
 // Conventions (the same in every backend of the library):
 //  - Frame: the node's `normal` is the local +z and its `tangent` (made orthogonal to the
@@ -177,11 +178,11 @@ struct SeriesCacheStats {
 };
 SeriesCacheStats azimuth_series_cache_stats();
 
-// The indices of refraction below which canted prisms keep integrating: t_end = 1 / sqrt(eta^2
-// - 1), the largest tan(theta_t) of light refracted from outside, grows without bound as eta
-// approaches 1 (3.1 at 1.05). Uncoated prisms of the paper's cube keep integrating below it too:
-// their critical angle goes to 0 with eta - 1, and the series' refinement about it with it (at
-// ior 1 + 2e-16 it does not end in minutes).
+// The indices of refraction below which canted prisms keep integrating: t_end =
+// 1 / sqrt(eta^2 - 1), the largest tan(theta_t) of light refracted from outside, grows without
+// bound as eta approaches 1 (3.1 at 1.05). Uncoated prisms of the paper's cube keep integrating
+// below it too: their critical angle goes to 0 with eta - 1, and the series' refinement about it
+// with it (at ior 1 + 2e-16 it does not end in minutes).
 constexpr double kSeriesMinEtaCanted = 1.05;
 
 // Points m.azimuth_series at the series of m's azimuth averages where the core would integrate

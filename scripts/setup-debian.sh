@@ -13,6 +13,7 @@ packages=(
   clang libclang-rt-14-dev llvm
   pybind11-dev python3-dev python3-numpy python3-pytest libfftw3-dev
   chromium
+  doxygen python3-sphinx python3-breathe python3-myst-parser furo
 )
 
 # Node.js runs the MaterialX tool of the tests (any Node.js >= 18: Debian's or one present).

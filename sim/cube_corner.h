@@ -23,18 +23,19 @@ struct CubeCorner {
 // In the cube's frame the perfect faces are x = 0, y = 0, z = 0 (normals the unit axes a_k) and
 // the sheet normal is n = normalize(a cos(cant) + u sin(cant)), a = (1,1,1) / sqrt3, u the unit
 // vector perpendicular to a toward e_1; the sheet's frame has n as +z and the projection of e_1
-// at azimuth psi. A dihedral error delta opens each of the three dihedral angles to 90 degrees
-// + delta: every face turns about its edge in the aperture (the axis a_k x a), its normal
-// tilting toward the cube axis, e_k = normalize(a_k + t (1,1,1)) with t such that e_i.e_j =
-// sin(delta) (the interior angle between faces i and j is 180 degrees minus the angle between
-// their inward normals).
+// at azimuth psi. A dihedral error delta opens each of the three dihedral angles to
+// 90 degrees + delta: every face turns about its edge in the aperture (the axis a_k x a), its
+// normal tilting toward the cube axis, e_k = normalize(a_k + t (1,1,1)) with t such that
+// e_i.e_j = sin(delta) (the interior angle between faces i and j is 180 degrees minus the angle
+// between their inward normals).
 CubeCorner cube_corner(double cantDeg, double dihedralArcmin, double psi);
 
 // The corner whose three dihedral angles differ: 90 degrees + dihedralArcmin[k] between the two
-// faces other than k. The inward normals have the Gram matrix G, G_ij = sin(error between i and
-// j), and are e = G^(1/2) applied to the axes (the symmetric square root: the normals nearest
-// the axes, e_k = normalize(a_k + t (1,1,1)) when the three errors are equal); the cant, the
-// sheet's frame and the aperture as above. Errors may be negative (angles below 90 degrees).
+// faces other than k. The inward normals have the Gram matrix G,
+// G_ij = sin(error between i and j), and are e = G^(1/2) applied to the axes (the symmetric
+// square root: the normals nearest the axes, e_k = normalize(a_k + t (1,1,1)) when the three
+// errors are equal); the cant, the sheet's frame and the aperture as above. Errors may be
+// negative (angles below 90 degrees).
 CubeCorner cube_corner(double cantDeg, const double dihedralArcmin[3], double psi);
 
 // An array of full cube corners (hexagonal apertures, cant 0), the back surface of a sheet whose

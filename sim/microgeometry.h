@@ -6,16 +6,17 @@
 // What is simulated (one light path per ray, unit weight, every decision by Russian roulette,
 // so that every ray ends in exactly one fate):
 //  1. The rough top surface (Beckmann roughness alpha, index eta) is crossed by the random walk
-//     of Heitz, Hanika, d'Eon & Dachsbacher 2016 ("Multiple-scattering microfacet BSDFs with
-//     the Smith model") on a dielectric Smith microsurface: the next intersection height from
-//     the Smith masking function, a visible Beckmann microfacet (Heitz & d'Eon 2014, for views
-//     from above *and* from below the mean plane), the exact Fresnel choice between reflection
-//     and refraction at the microfacet (rp_fresnel_dielectric / rp_fresnel_internal of the
-//     core), repeated until the ray leaves the microsurface upward (outside) or downward (into
-//     the sheet). Nothing is lost at the surface: a masked ray hits the surface again. Paths
-//     that leave after exactly one scattering event are the height-correlated single-scattering
-//     microfacet model, i.e. the analytic surface lobe f_s and its single refraction; the
-//     higher orders are tallied separately (the analytic model has none).
+//     of Heitz, Hanika, d'Eon & Dachsbacher 2016
+//     ("Multiple-scattering microfacet BSDFs with the Smith model") on a dielectric Smith
+//     microsurface: the next intersection height from the Smith masking function, a visible
+//     Beckmann microfacet (Heitz & d'Eon 2014, for views from above *and* from below the mean
+//     plane), the exact Fresnel choice between reflection and refraction at the microfacet
+//     (rp_fresnel_dielectric / rp_fresnel_internal of the core), repeated until the ray leaves
+//     the microsurface upward (outside) or downward (into the sheet). Nothing is lost at the
+//     surface: a masked ray hits the surface again. Paths that leave after exactly one
+//     scattering event are the height-correlated single-scattering microfacet model, i.e. the
+//     analytic surface lobe f_s and its single refraction; the higher orders are tallied
+//     separately (the analytic model has none).
 //  2. A ray refracted into the sheet meets a cube corner (apex O, faces with normals
 //     e_k = (sqrt(2/3) v_k, 1/sqrt3), v_k the aperture vertex directions of the prism's
 //     orientation; a canted cube's in sim/cube_corner.h) at a uniformly distributed point of its
@@ -27,9 +28,10 @@
 //     each), or uniformly random per encounter (averaged).
 //  3. A ray that is not retroreflected (it leaves the aperture after one or two reflections, or
 //     is transmitted through a face) is handed to the Lambertian substrate below the prisms:
-//     MODEL.md's layer abstraction ("light refracted in but not retroreflected reaches the
-//     substrate"), which the analytic diffuse lobe also assumes. The substrate absorbs it with
-//     probability 1 - k_d, else re-emits it upward, cosine-distributed in the sheet.
+//     MODEL.md's layer abstraction
+//     ("light refracted in but not retroreflected reaches the substrate"), which the analytic
+//     diffuse lobe also assumes. The substrate absorbs it with probability 1 - k_d, else
+//     re-emits it upward, cosine-distributed in the sheet.
 //  4. The way back up (Sheet::upward_through_prisms, default true): light from the substrate
 //     crosses the prism layer as the exact adjoint of the way down: a cube corner is traced for
 //     the reversed direction -u; where that trace is retroreflected the upward light is sent

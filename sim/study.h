@@ -196,7 +196,7 @@ struct ShardSpec {
     int k = 1, n = 1;
 };
 
-// "K/N" as a shard of a study of `units` work units: InputError "<what> <text>: ..." naming the
+// "K/N" as a shard of a study of `units` work units: InputError `<what> <text>: ...` naming the
 // allowed range unless K and N are whole numbers with 1 <= K <= N <= units.
 ShardSpec parse_shard(const std::string& text, const std::string& what, size_t units);
 

@@ -198,7 +198,7 @@ std::vector<double> far_field_grid(const Pupil& pupil, int n, double halfWidthDe
 dvec3 observation_direction(const dvec3& wi, double observationRad, double chi);
 
 // The azimuth-averaged tail of one coherent polygon of uniform field (Fraunhofer, |k| large):
-// <R_A> -> cos(theta_o) lambda P_eff / (4 pi^3 theta^3 A_cell) times the field's |J|^2, with
+// `<R_A>` -> cos(theta_o) lambda P_eff / (4 pi^3 theta^3 A_cell) times the field's |J|^2, with
 // P_eff = sum_j L_j sqrt((n_j.a)^2 / cos^2(theta_i) + (n_j.b)^2) (a, b as above, projected on the
 // sheet plane): the perimeter of the polygon seen from the light, over cos(theta_i)
 // (docs/wave_optics.md derives it). Returns P_eff.
@@ -206,7 +206,7 @@ double tail_perimeter(const Polygon& p, const dvec3& wi);
 
 // The same for a whole pupil of perfect cubes (every order with the same g): the edges' spikes
 // add per line of the sheet plane, with the jump of the field across it (the difference of the
-// orders' fields on either side, zero outside): <R_A> -> cos(theta_o) lambda K / (4 pi^3
+// orders' fields on either side, zero outside): `<R_A>` -> cos(theta_o) lambda K / (4 pi^3
 // theta^3 A_cell), K = sum over lines of rho_line times the integral along the line of the mean
 // over the inputs of |jump|^2, rho = sqrt((n.a)^2 / cos^2(theta_i) + (n.b)^2). For ideal faces
 // the jumps between orders vanish and K = P_eff (Ts^2 + Tp^2) / 2; TIR orders add their

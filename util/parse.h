@@ -13,16 +13,16 @@ namespace retroprism {
 // writes them) are numbers too.
 std::optional<double> try_parse_number(const std::string& text, bool finiteOnly = true);
 
-// The whole of `text` as a finite double; otherwise an InputError "<what> <text>: expected a
-// finite number".
+// The whole of `text` as a finite double; otherwise an InputError `<what> <text>: expected a
+// finite number`.
 double parse_number(const std::string& text, const std::string& what);
 
-// The whole of `text` as a number within [lo, hi]; otherwise an InputError "<what> <text>:
-// expected a number in [lo, hi]".
+// The whole of `text` as a number within [lo, hi]; otherwise an InputError `<what> <text>:
+// expected a number in [lo, hi]`.
 double parse_number_in(const std::string& text, const std::string& what, double lo, double hi);
 
 // A whole number within [lo, hi] (written as an integer or in exponent form, 4e6); otherwise
-// an InputError "<what> <text>: expected a whole number in [lo, hi]".
+// an InputError `<what> <text>: expected a whole number in [lo, hi]`.
 std::uint64_t parse_count(const std::string& text, const std::string& what, double lo, double hi);
 
 } // namespace retroprism

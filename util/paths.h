@@ -2,7 +2,7 @@
 // materials, the accuracy study's results). No path of the source tree is compiled in: the data
 // folder is, in order,
 //   1. $RETROPRISM_DATA_DIR, when set (it must hold the data, or it is an error);
-//   2. <exe>/../share/retroprism, the installed layout;
+//   2. `<exe>/../share/retroprism`, the installed layout;
 //   3. the nearest folder above the executable that holds materialx/tools/mx.cjs (a build tree
 //      inside the checkout finds the checkout).
 #pragma once

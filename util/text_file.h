@@ -5,7 +5,7 @@
 
 namespace retroprism {
 
-// The bytes of the file at `path`; InputError "<path>: cannot open file" when it cannot be read.
+// The bytes of the file at `path`; InputError `<path>: cannot open file` when it cannot be read.
 std::string read_text_file(const std::string& path);
 
 // `s` without leading and trailing blanks (space, tab, CR, LF).

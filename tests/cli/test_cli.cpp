@@ -215,14 +215,14 @@ TEST_CASE("demo writes every material's plots, or nothing on a bad material", "[
     CHECK_FALSE(anyFile);
 }
 
-TEST_CASE("The README's inputs table is the parameter table", "[cli]") {
-    std::ifstream in(std::string(RP_SOURCE_DIR) + "/README.md");
-    std::string readme((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+TEST_CASE("The documentation's inputs table is the parameter table", "[cli]") {
+    std::ifstream in(std::string(RP_SOURCE_DIR) + "/docs/model.md");
+    std::string page((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     const std::string begin = "<!-- params:begin -->\n", end = "<!-- params:end -->";
-    size_t a = readme.find(begin), b = readme.find(end);
+    size_t a = page.find(begin), b = page.find(end);
     REQUIRE(a != std::string::npos);
     REQUIRE(b != std::string::npos);
-    CHECK(readme.substr(a + begin.size(), b - a - begin.size()) == params_markdown());
+    CHECK(page.substr(a + begin.size(), b - a - begin.size()) == params_markdown());
     Run r = run("params");
     CHECK(r.status == 0);
     CHECK(r.output == params_markdown());
