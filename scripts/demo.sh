@@ -7,7 +7,8 @@
 # MaterialX-style GGX to the 3M Diamond Grade 983 R_A table (out/dg983_white_fit.png, the same
 # fit as the checked-in preset examples/sheeting/dg983_white.mtlx) and sets the preset against
 # that GGX: night previews at the same exposure and the sign's luminance for a driver
-# approaching from 300 m to 30 m (out/approach/).
+# approaching from 300 m to 30 m (out/approach/), then the same for the preset with diffraction
+# (examples/sheeting/dg983_white_tir.mtlx).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 bash "$root/scripts/build.sh"
@@ -20,4 +21,8 @@ mkdir -p "$root/out"
 sheeting="$root/examples/sheeting"
 "$cli" fit --ra "$sheeting/dg983_white.csv" --hold dihedral_spread --plot "$root/out/dg983_white_fit.png"
 "$cli" approach "$sheeting/dg983_white.mtlx" --table "$sheeting/dg983_white.csv" \
+  --out "$root/out/approach"
+# The same table's preset with diffraction (uncoated prisms of pitch 100 um): on approach it
+# keeps its light at 1 degree of observation, where the geometric preset goes dark.
+"$cli" approach "$sheeting/dg983_white_tir.mtlx" --table "$sheeting/dg983_white.csv" \
   --out "$root/out/approach"

@@ -1241,6 +1241,39 @@ TEST_CASE("fit --ra: the fittable inputs of the parameter table are recovered fr
     }
 }
 
+TEST_CASE("The DG983 preset with diffraction: the table within 25%, light kept at 1 degree",
+          "[photometry]") {
+    // examples/sheeting/dg983_white_tir.mtlx: uncoated prisms of pitch 100 um (held), fitted to
+    // the datasheet's six rows (each the mean of rotations 0 and 90 degrees).
+    const MtlxDocument d = read_mtlx(source("examples/sheeting/dg983_white_tir.mtlx"));
+    REQUIRE(d.materials.size() == 1);
+    const Params& p = d.materials[0].params;
+    CHECK(p.prism_pitch == 100.0);
+    CHECK(p.prism_reflection == 1); // tir
+    const RaMeasurements dg = read_ra_table(source("examples/sheeting/dg983_white.csv"));
+    const std::vector<double> v = ra_node_values(p, dg.entries);
+    double worst = 0;
+    for (size_t i = 0; i < v.size(); ++i)
+        worst = std::max(worst, std::abs(v[i] / dg.entries[i].ra - 1.0));
+    // Beyond the table, entrance -4 degrees, the datasheet's mean of rotations 0 and 90.
+    std::vector<RaEntry> wide(3);
+    const double obs[3] = {0.2, 1.0, 1.5};
+    for (int k = 0; k < 3; ++k) {
+        wide[size_t(k)].observation_deg = obs[k];
+        wide[size_t(k)].entrance_deg = -4;
+    }
+    const std::vector<double> w = ra_node_values(p, wide);
+    std::printf("MEASURED: DG983 preset with diffraction: largest error %.1f%% over %zu rows; "
+                "R_A at entrance -4 deg %.1f / %.2f / %.2f at observation 0.2 / 1.0 / 1.5 deg "
+                "(%.1f%% and %.2f%% of the 0.2-deg value)\n",
+                100 * worst, v.size(), w[0], w[1], w[2], 100 * w[1] / w[0], 100 * w[2] / w[0]);
+    CHECK(worst <= 0.25);
+    // Geometric optics keeps about 0.1% at 1 degree (the geometric preset at rotation 0: 0.93
+    // of 972): the diffraction tail keeps more than 3% at 1 degree and 1% at 1.5.
+    CHECK(w[1] / w[0] > 0.03);
+    CHECK(w[2] / w[0] > 0.01);
+}
+
 TEST_CASE("fit --ra on the DG983 preset: JSON, plot and a document that ra --document "
           "reproduces",
           "[photometry]") {
