@@ -63,7 +63,7 @@ void print_lidar_table(const std::vector<LidarRow>& rows, std::FILE* out) {
                 std::fprintf(out, "%10g %10.3f", first[i]->range_m, first[i]->observation_mrad);
                 for (double b : entrances) {
                     const LidarRow& r = *curve(rows, m, nm, b)[i];
-                    std::fprintf(out, " | %9.3e %9.3e %8.3g", r.ret.fraction, r.lambertian_albedo,
+                    std::fprintf(out, " | %9.3e %9.3e %8.4g", r.ret.fraction, r.lambertian_albedo,
                                  r.ret.fraction / r.lambertian_albedo);
                 }
                 std::fprintf(out, "\n");
