@@ -1,8 +1,10 @@
 // openmaterial.h: ASAM OpenMATERIAL 3D files, read and written: the BRDF look-up table
 // (`NAME_brdf.xompt`) and the material file (`NAME.xomp`).
 //
-// What the fields mean, from the format's JSON schemas, version 1.1.0 (material_brdf_schema.json
-// and material_schema.json, as the ASAM checker bundle qc-openmaterial-3d ships them):
+// What the fields mean, from the format's JSON schemas (material_brdf_schema.json and
+// material_schema.json, as the ASAM checker bundle qc-openmaterial-3d ships them), versions 1.0.0
+// and 1.1.0; 1.1.0 adds brdf.receiverSolidAngles. The files written declare 1.0.0 and are
+// validated against its schemas (tests/data/openmaterial/, [python]):
 //  - metadata: name, uuid (8-4-4-4-12 hexadecimal), materialVersion and openMaterial3dVersion
 //    (semantic versions), copyrights and authors (arrays of at least one string), license;
 //    the table also requires `sources` (measured, simulated or from literature), and may say
@@ -36,7 +38,7 @@ struct OpenMaterialMetadata {
     std::string description;
     std::string uuid;
     std::string material_version = "1.0.0";
-    std::string openmaterial_version = "1.1.0";
+    std::string openmaterial_version = "1.0.0";
     std::vector<std::string> copyrights;
     std::string license;
     std::vector<std::string> authors;
