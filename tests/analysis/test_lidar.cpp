@@ -139,6 +139,8 @@ std::vector<Case> cases() {
         {"plate 1550 nm, coaxial, 5 m, beta 10", false, 1550, 0, 0, 5, 10, 0, 0, 0},
         {"plate 905 nm, retro point inside the aperture off its centre, 3 m", false, 905, 0.008, 0,
          3, 0, 0, 0, 0},
+        {"plate 905 nm, retro point just outside the aperture's rim, 3 m", false, 905, 0.0135, 0, 3,
+         0, 0, 0, 0},
         {"plate 0.52 x 0.11 m at 150 m, beta 20 (smaller than the footprint)", false, 905, 0.05, 0,
          150, 20, 0, 0.52, 0.11}};
     std::vector<Case> v;
@@ -227,8 +229,9 @@ TEST_CASE("LiDAR: the bundled materials against a direct integration within 1%",
     }
 }
 
-// The default orders against doubled ones: the fast case the two geometries where the aperture
-// sees the most of the lobe (2 m, and the lobe's peak inside the aperture), the [ci] case all.
+// The default orders against doubled ones: the fast case the geometries where the aperture sees
+// the most of the lobe (2 m, the lobe's peak inside the aperture and just outside its rim), the
+// [ci] case all.
 void check_doubled(const std::vector<Case>& all) {
     LidarQuadrature fine;
     fine.footprint *= 2;
@@ -250,7 +253,7 @@ void check_doubled(const std::vector<Case>& all) {
 
 TEST_CASE("LiDAR: the default quadrature against doubled orders", "[lidar]") {
     const std::vector<Case> all = cases();
-    check_doubled({all[1], all[3]});
+    check_doubled({all[1], all[3], all[4]});
 }
 
 TEST_CASE("LiDAR: the default quadrature against doubled orders, every case", "[lidar][ci]") {
