@@ -260,6 +260,66 @@ TEST_CASE("LiDAR: the default quadrature against doubled orders, every case", "[
     check_doubled(cases());
 }
 
+TEST_CASE("LiDAR: every input changes the return", "[lidar]") {
+    // STYLE.md's rule: each input varied alone from a base must change the result. The base: a
+    // plate at 150 m, where the footprint (1/e^2 radius 0.23 m) outgrows it, so its size acts.
+    // Materials where the input acts: the plate diffracts (wavelength), the yellow sign's
+    // channels differ, the white sign's matched pairs turn with the rotation once the refracted
+    // direction is tilted beyond 19.5 degrees (entrance 30; below, the ERA is the same at every
+    // azimuth, MODEL.md section 2).
+    const std::string dir = std::string(RP_SOURCE_DIR) + "/examples/materials/";
+    const Params white = params_from_json(read_json(dir + "white_sign.json"), "white_sign.json");
+    const Params yellow = params_from_json(read_json(dir + "yellow_sign.json"), "yellow_sign.json");
+    LidarSensor s;
+    LidarTarget t;
+    t.range_m = 150;
+    t.entrance_deg = 10;
+    t.width_m = 0.52;
+    t.height_m = 0.11;
+    auto fraction = [](const Params& m, double nm, int channel, const LidarSensor& s2,
+                       const LidarTarget& t2) {
+        return lidar_return(lidar_node_brdf(m, nm, channel), s2, t2).fraction;
+    };
+    struct Variation {
+        const char* input;
+        double base, varied;
+    };
+    std::vector<Variation> v;
+    const double plateBase = fraction(microprismatic(), 905, 0, s, t);
+    v.push_back({"wavelength", plateBase, fraction(microprismatic(), 1550, 0, s, t)});
+    v.push_back({"channel", fraction(yellow, 905, 0, s, t), fraction(yellow, 905, 2, s, t)});
+    LidarTarget tr = t;
+    tr.entrance_deg = 30;
+    const double whiteBase = fraction(white, 905, 0, s, tr);
+    tr.rotation_deg = 45;
+    v.push_back({"rotation", whiteBase, fraction(white, 905, 0, s, tr)});
+    LidarSensor sv = s;
+    sv.receiver_offset = dvec3(0.1, 0, 0);
+    v.push_back({"offset", plateBase, fraction(microprismatic(), 905, 0, sv, t)});
+    sv = s;
+    sv.divergence_mrad = 6;
+    v.push_back({"divergence", plateBase, fraction(microprismatic(), 905, 0, sv, t)});
+    sv = s;
+    sv.aperture_m = 0.05;
+    v.push_back({"aperture", plateBase, fraction(microprismatic(), 905, 0, sv, t)});
+    LidarTarget tv = t;
+    tv.range_m = 100;
+    v.push_back({"range", plateBase, fraction(microprismatic(), 905, 0, s, tv)});
+    tv = t;
+    tv.entrance_deg = 25;
+    v.push_back({"entrance", plateBase, fraction(microprismatic(), 905, 0, s, tv)});
+    tv = t;
+    tv.width_m = 0.3;
+    v.push_back({"width", plateBase, fraction(microprismatic(), 905, 0, s, tv)});
+    tv = t;
+    tv.height_m = 0.2;
+    v.push_back({"height", plateBase, fraction(microprismatic(), 905, 0, s, tv)});
+    for (const Variation& x : v) {
+        INFO(x.input << ": " << x.base << " -> " << x.varied);
+        CHECK(std::abs(x.varied / x.base - 1.0) > 1e-3);
+    }
+}
+
 TEST_CASE("LiDAR: the per-ray function is the view factor for a Lambertian surface", "[lidar]") {
     // A hit 7 m in front of a disc facing it, surface tilted; the aperture's centre on its normal.
     LidarHit hit;
