@@ -293,27 +293,16 @@ TEST_CASE("LiDAR: every input changes the return", "[lidar]") {
     const double whiteBase = fraction(white, 905, 0, s, tr);
     tr.rotation_deg = 45;
     v.push_back({"rotation", whiteBase, fraction(white, 905, 0, s, tr)});
-    LidarSensor sv = s;
-    sv.receiver_offset = dvec3(0.1, 0, 0);
-    v.push_back({"offset", plateBase, fraction(microprismatic(), 905, 0, sv, t)});
-    sv = s;
-    sv.divergence_mrad = 6;
-    v.push_back({"divergence", plateBase, fraction(microprismatic(), 905, 0, sv, t)});
-    sv = s;
-    sv.aperture_m = 0.05;
-    v.push_back({"aperture", plateBase, fraction(microprismatic(), 905, 0, sv, t)});
-    LidarTarget tv = t;
-    tv.range_m = 100;
-    v.push_back({"range", plateBase, fraction(microprismatic(), 905, 0, s, tv)});
-    tv = t;
-    tv.entrance_deg = 25;
-    v.push_back({"entrance", plateBase, fraction(microprismatic(), 905, 0, s, tv)});
-    tv = t;
-    tv.width_m = 0.3;
-    v.push_back({"width", plateBase, fraction(microprismatic(), 905, 0, s, tv)});
-    tv = t;
-    tv.height_m = 0.2;
-    v.push_back({"height", plateBase, fraction(microprismatic(), 905, 0, s, tv)});
+    auto vary = [&](const char* input, const LidarSensor& s2, const LidarTarget& t2) {
+        v.push_back({input, plateBase, fraction(microprismatic(), 905, 0, s2, t2)});
+    };
+    vary("offset", {dvec3(0.1, 0, 0), 3.0, 0.025}, t);
+    vary("divergence", {dvec3(0.03, 0, 0), 6.0, 0.025}, t);
+    vary("aperture", {dvec3(0.03, 0, 0), 3.0, 0.05}, t);
+    vary("range", s, {100.0, 10.0, 0.0, 0.52, 0.11});
+    vary("entrance", s, {150.0, 25.0, 0.0, 0.52, 0.11});
+    vary("width", s, {150.0, 10.0, 0.0, 0.3, 0.11});
+    vary("height", s, {150.0, 10.0, 0.0, 0.52, 0.2});
     for (const Variation& x : v) {
         INFO(x.input << ": " << x.base << " -> " << x.varied);
         CHECK(std::abs(x.varied / x.base - 1.0) > 1e-3);
