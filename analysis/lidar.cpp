@@ -10,6 +10,8 @@
 #include "parallel.h"
 #include "photometry.h"
 #include "quadrature.h"
+#include "ra_fit.h"
+#include "ra_table.h"
 
 namespace retroprism {
 
@@ -312,6 +314,27 @@ std::vector<LidarRow> lidar_sweep(const std::vector<LidarMaterial>& materials,
             }
         }
     return rows;
+}
+
+std::vector<LidarReturn> lidar_returns_at(const LidarBrdf& f, const std::vector<LidarRow>& rows,
+                                          const LidarSensor& sensor, const LidarTarget& target,
+                                          const LidarQuadrature& q) {
+    std::vector<LidarReturn> out;
+    for (const LidarRow& r : rows) {
+        LidarTarget t = target;
+        t.range_m = r.range_m;
+        t.entrance_deg = r.entrance_deg;
+        out.push_back(lidar_return(f, sensor, t, q));
+    }
+    return out;
+}
+
+LidarBrdf lidar_ggx_brdf(const std::string& tableCsv, int channel) {
+    require(channel >= 0 && channel <= 2, "--channel", channel, "0 (red), 1 (green) or 2 (blue)");
+    const baselines::RetroreflectiveGGX model = fit_ra_mrm(read_ra_table(tableCsv)).model;
+    return [model, channel](const glm::dvec3& wi, const glm::dvec3& wo) {
+        return model.f(wi, wo)[channel];
+    };
 }
 
 } // namespace retroprism

@@ -171,4 +171,18 @@ std::vector<LidarRow> lidar_sweep(const std::vector<LidarMaterial>& materials,
                                   const std::vector<double>& entrancesDeg, int channel = 0,
                                   const LidarQuadrature& q = {});
 
+// The returns of another BRDF `f` at the geometries of a sweep's rows (their range and entrance
+// angle, the sweep's sensor and target otherwise; f is at one wavelength and channel already):
+// a model beside the rows' materials, such as the MaterialX-style GGX fitted to a sheeting's R_A
+// table (lidar_ggx_brdf).
+std::vector<LidarReturn> lidar_returns_at(const LidarBrdf& f, const std::vector<LidarRow>& rows,
+                                          const LidarSensor& sensor, const LidarTarget& target,
+                                          const LidarQuadrature& q = {});
+
+// The MaterialX-style retroreflective GGX over a Lambertian base (nodes/baselines.h) fitted to
+// the R_A table `tableCsv` as `retroprism fit --ra` fits it (analysis/ra_fit.h), channel
+// `channel`: the renderers' common retroreflection model set from a sheeting's datasheet. Not
+// spectral: the same at every wavelength.
+LidarBrdf lidar_ggx_brdf(const std::string& tableCsv, int channel = 0);
+
 } // namespace retroprism

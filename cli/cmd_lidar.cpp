@@ -63,8 +63,8 @@ int cmd_lidar(int argc, const char** argv) {
              "beam at the range, turned by the entrance angle about y (analysis/lidar.h)")
         .usage("retroprism lidar [[LABEL=]FILE.json|DOC.mtlx ...] [--wavelength NM,...] "
                "[--range M,...] [--entrance DEG,...] [--offset X,Y,Z] [--divergence MRAD] "
-               "[--aperture M] [--size W,H] [--rotation DEG] [--channel r|g|b] [--csv] "
-               "[--plot OUT.png]");
+               "[--aperture M] [--size W,H] [--rotation DEG] [--channel r|g|b] "
+               "[--baseline TABLE.csv] [--csv] [--plot OUT.png]");
     std::vector<std::string> files;
     ap.arg("filename").hidden().action([&](OIIO::cspan<const char*> a) { files.push_back(a[0]); });
     ap.arg("--wavelength NM")
@@ -92,11 +92,16 @@ int cmd_lidar(int argc, const char** argv) {
     ap.arg("--channel C")
         .help("the material's colour channel r, g or b (default r, the nearest the infrared)")
         .defaultval("r");
+    ap.arg("--baseline TABLE.csv")
+        .help("also the MaterialX-style retroreflective GGX fitted to this R_A table (as fit --ra "
+              "fits it) at the same geometries, beside each material");
     ap.arg("--csv").help("CSV on standard output, a row per geometry").store_true();
     ap.arg("--plot FILE").help("write the figure (PNG): P_r/P against range");
     int status = 0;
     if (!parse_command_args(ap, argc, argv, status)) return status;
 
+    if (!ap["baseline"].get<std::string>().empty() && ap["csv"].get<int>())
+        throw InputError("--baseline prints a text table beside the materials': not with --csv");
     std::vector<LidarMaterial> materials;
     for (const std::string& f : files)
         materials.push_back(read_material(f));
@@ -134,6 +139,12 @@ int cmd_lidar(int argc, const char** argv) {
     } else {
         std::printf("LiDAR return: %s\n\n", setup.c_str());
         print_lidar_table(rows, stdout);
+    }
+    const std::string baseline = ap["baseline"].get<std::string>();
+    if (!baseline.empty()) {
+        const std::vector<LidarReturn> ggx =
+            lidar_returns_at(lidar_ggx_brdf(baseline, c), rows, sensor, target);
+        print_lidar_model(rows, ggx, "the GGX fitted to " + baseline, stdout);
     }
     const std::string plotFile = ap["plot"].get<std::string>();
     if (!plotFile.empty()) {

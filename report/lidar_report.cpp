@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 #include "figure.h"
 
@@ -40,36 +41,63 @@ std::vector<const LidarRow*> curve(const std::vector<LidarRow>& rows, const std:
 
 } // namespace
 
-void print_lidar_table(const std::vector<LidarRow>& rows, std::FILE* out) {
+namespace {
+
+// A block per material and wavelength, a row per range; per entrance angle the row's P_r/P, the
+// value `other` gives for the row (by its index in `rows`) and P_r over it. `title` heads each
+// block (after "MATERIAL at NM nm: "); with `albedo` the entrance heads give the albedo.
+void print_blocks(const std::vector<LidarRow>& rows, const std::string& title,
+                  const char* otherName, const std::function<double(std::size_t)>& other,
+                  bool albedo, std::FILE* out) {
     const std::vector<double> entrances = entrances_of(rows);
     for (const std::string& m : materials_of(rows))
         for (double nm : wavelengths_of(rows)) {
-            std::fprintf(out,
-                         "%s at %g nm: returned fraction P_r/P; Lambertian: the Lambertian "
-                         "target of the same albedo; ratio: P_r over it\n",
-                         m.c_str(), nm);
+            std::fprintf(out, "%s at %g nm: %s\n", m.c_str(), nm, title.c_str());
             std::fprintf(out, "%10s %10s", "", "");
             for (double b : entrances) {
                 const std::vector<const LidarRow*> c = curve(rows, m, nm, b);
-                std::fprintf(out, " | entrance %3g deg, albedo %.3f ", b,
-                             c.empty() ? 0.0 : c[0]->albedo);
+                if (albedo)
+                    std::fprintf(out, " | entrance %3g deg, albedo %.3f ", b,
+                                 c.empty() ? 0.0 : c[0]->albedo);
+                else
+                    std::fprintf(out, " | entrance %3g deg%15s", b, "");
             }
             std::fprintf(out, "\n%10s %10s", "range [m]", "obs [mrad]");
             for (std::size_t k = 0; k < entrances.size(); ++k)
-                std::fprintf(out, " | %9s %9s %8s", "P_r/P", "Lambertian", "ratio");
+                std::fprintf(out, " | %9s %9s %8s", "P_r/P", otherName, "ratio");
             std::fprintf(out, "\n");
             const std::vector<const LidarRow*> first = curve(rows, m, nm, entrances[0]);
             for (std::size_t i = 0; i < first.size(); ++i) {
                 std::fprintf(out, "%10g %10.3f", first[i]->range_m, first[i]->observation_mrad);
                 for (double b : entrances) {
-                    const LidarRow& r = *curve(rows, m, nm, b)[i];
-                    std::fprintf(out, " | %9.3e %9.3e %8.4g", r.ret.fraction, r.lambertian_albedo,
-                                 r.ret.fraction / r.lambertian_albedo);
+                    const LidarRow* r = curve(rows, m, nm, b)[i];
+                    const double o = other(std::size_t(r - rows.data()));
+                    std::fprintf(out, " | %9.3e %9.3e %8.4g", r->ret.fraction, o,
+                                 r->ret.fraction / o);
                 }
                 std::fprintf(out, "\n");
             }
             std::fprintf(out, "\n");
         }
+}
+
+} // namespace
+
+void print_lidar_table(const std::vector<LidarRow>& rows, std::FILE* out) {
+    print_blocks(
+        rows,
+        "returned fraction P_r/P; Lambertian: the Lambertian target of the same albedo; "
+        "ratio: P_r over it",
+        "Lambertian", [&](std::size_t i) { return rows[i].lambertian_albedo; }, true, out);
+}
+
+void print_lidar_model(const std::vector<LidarRow>& rows, const std::vector<LidarReturn>& model,
+                       const std::string& modelLabel, std::FILE* out) {
+    print_blocks(
+        rows,
+        "returned fraction P_r/P; model: " + modelLabel +
+            " at the same geometry; ratio: P_r over the model's",
+        "model", [&](std::size_t i) { return model[i].fraction; }, false, out);
 }
 
 void print_lidar_csv(const std::vector<LidarRow>& rows, std::FILE* out) {

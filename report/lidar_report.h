@@ -22,6 +22,11 @@ void print_lidar_table(const std::vector<LidarRow>& rows, std::FILE* out);
 // intercepted,albedo,lambertian_albedo_fraction.
 void print_lidar_csv(const std::vector<LidarRow>& rows, std::FILE* out);
 
+// Text: per material and wavelength of `rows`, a row per range, per entrance angle the
+// material's P_r / P, the model's at the same geometry (`model`, one per row) and their ratio.
+void print_lidar_model(const std::vector<LidarRow>& rows, const std::vector<LidarReturn>& model,
+                       const std::string& modelLabel, std::FILE* out);
+
 namespace plot {
 
 // A panel per material (rows) and wavelength (columns): P_r / P against range, log scales, a

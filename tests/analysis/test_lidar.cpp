@@ -362,6 +362,7 @@ TEST_CASE("LiDAR: bad inputs are rejected naming the option and its range", "[li
           Run{"--offset 1,2", "--offset: expected X,Y,Z in m"},
           Run{"--wavelength 0", "--wavelength 0: must be in (0, 2000] nm"},
           Run{"--channel q", "--channel q: expected r, g or b"},
+          Run{"--baseline t.csv --csv", "--baseline prints a text table"},
           Run{"nosuch.txt", "nosuch.txt: expected a material FILE.json or a MaterialX document"}}) {
         const rptest::CommandRun run = rptest::run_cli(std::string("lidar ") + r.args);
         INFO(r.args << ": " << run.output);
@@ -371,18 +372,44 @@ TEST_CASE("LiDAR: bad inputs are rejected naming the option and its range", "[li
     }
 }
 
+namespace {
+
+// `retroprism lidar ARGS`'s output; the command must succeed.
+std::string lidar_output(const std::string& args) {
+    const rptest::CommandRun run = rptest::run_cli("lidar " + args);
+    INFO(run.output);
+    REQUIRE(run.status == 0);
+    return run.output;
+}
+
+LidarTarget at(double range, double entrance) {
+    LidarTarget t;
+    t.range_m = range;
+    t.entrance_deg = entrance;
+    return t;
+}
+
+} // namespace
+
 TEST_CASE("retroprism lidar: CSV rows answer the library", "[lidar]") {
     const std::string plate =
         std::string(RP_SOURCE_DIR) + "/examples/materials/microprismatic_160um.json";
-    const rptest::CommandRun run =
-        rptest::run_cli("lidar plate=" + plate + " --range 5,50 --entrance 0,30 --csv");
-    INFO(run.output);
-    REQUIRE(run.status == 0);
-    LidarTarget t;
-    t.range_m = 50;
-    t.entrance_deg = 30;
-    const LidarReturn r = lidar_return(lidar_node_brdf(microprismatic(), 905), {}, t);
+    const std::string out = lidar_output("plate=" + plate + " --range 5,50 --entrance 0,30 --csv");
+    const LidarReturn r = lidar_return(lidar_node_brdf(microprismatic(), 905), {}, at(50, 30));
     char row[128];
     std::snprintf(row, sizeof row, "plate,905,50,30,%.6g,%.6e,", r.observation_mrad, r.fraction);
-    CHECK(rptest::contains(run.output, row));
+    CHECK(rptest::contains(out, row));
+}
+
+TEST_CASE("retroprism lidar --baseline: the fitted GGX's returns answer the library", "[lidar]") {
+    const std::string sign = std::string(RP_SOURCE_DIR) + "/examples/sheeting/dg983_white.mtlx";
+    const std::string table = std::string(RP_SOURCE_DIR) + "/examples/sheeting/dg983_white.csv";
+    const std::string out =
+        lidar_output("sign=" + sign + " --range 50 --entrance 20 --baseline " + table);
+    const LidarReturn node = lidar_return(lidar_node_brdf(dg983(), 905), {}, at(50, 20));
+    const LidarReturn ggx = lidar_return(lidar_ggx_brdf(table), {}, at(50, 20));
+    char row[160];
+    std::snprintf(row, sizeof row, "| %9.3e %9.3e %8.4g", node.fraction, ggx.fraction,
+                  node.fraction / ggx.fraction);
+    CHECK(rptest::contains(out, row));
 }
