@@ -12,8 +12,10 @@
 
 #include "commands.h"
 #include "parse.h"
+#include "color.h"
 #include "embedded_files.h"
 #include "mtlx_reader.h"
+#include "openmaterial_export.h"
 #include "query.h"
 #include "trade.h"
 
@@ -101,14 +103,72 @@ std::string print_variant_choice(const Params& p, double maxError) {
     return c.chosen;
 }
 
+// `export --format openmaterial`: the material's OpenMATERIAL files, read back and checked.
+int export_openmaterial(OIIO::ArgParse& ap, const fs::path& dir) {
+    const std::string json = ap["json"].get<std::string>();
+    const std::string document = ap["document"].get<std::string>();
+    if (json.empty() == document.empty())
+        throw InputError("export --format openmaterial: give the material as --json FILE.json or "
+                         "--document DOC.mtlx [--material NAME]");
+    OpenMaterialExport e;
+    Params p;
+    if (!json.empty()) {
+        p = params_from_json(read_json(json), json);
+        e.name = fs::path(json).stem().string();
+    } else {
+        p = document_params(document, ap["material"].get<std::string>(), &e.name);
+    }
+    if (!ap["name"].get<std::string>().empty()) e.name = ap["name"].get<std::string>();
+    e.wavelengths_nm.clear();
+    std::string list = ap["wavelength"].get<std::string>();
+    for (std::size_t at = 0; at <= list.size();) {
+        const std::size_t comma = std::min(list.find(',', at), list.size());
+        e.wavelengths_nm.push_back(
+            parse_number_in(list.substr(at, comma - at), "--wavelength", 1e-9, 2000));
+        at = comma + 1;
+    }
+    const std::string channel = ap["channel"].get<std::string>();
+    e.channel = channel == "r" ? 0 : channel == "g" ? 1 : channel == "b" ? 2 : -1;
+    if (e.channel < 0) throw InputError("--channel " + channel + ": expected r, g or b");
+    e.description = "Retroreflective prismatic sheeting (" + e.name +
+                    "), the BRDF computed by retroprism's node.";
+    const BrdfTable written = write_openmaterial(p, e, dir.string());
+    const std::string tablePath = (dir / (e.name + "_brdf.xompt")).string();
+    const BrdfTable back = read_brdf_table(tablePath);
+    const TableCheck c = check_brdf_table(back, p, e.channel);
+    std::printf("wrote %s (%zu rows) and %s\n", tablePath.c_str(), written.rows.size(),
+                (dir / (e.name + ".xomp")).string().c_str());
+    std::printf("read back: %zu rows, largest relative difference from the node %.2e; linear "
+                "interpolation at %zu cell centres near the retro direction: median %.2e, 90th "
+                "percentile %.2e, largest %.2e\n",
+                c.rows, c.max_row_error, c.centres, c.median_centre_error, c.p90_centre_error,
+                c.max_centre_error);
+    return 0;
+}
+
 } // namespace
 
 int cmd_export(int argc, const char** argv) {
     OIIO::ArgParse ap;
     ap.intro("retroprism export: the MaterialX node library (rp_pbrlib) and the plain GLSL "
              "variants, for external pipelines")
-        .usage("retroprism export --out DIR [--document DOC.mtlx [--material NAME] --max-error E]");
+        .usage("retroprism export --out DIR [--document DOC.mtlx [--material NAME] --max-error E]\n"
+               "       retroprism export --format openmaterial --out DIR (--json FILE.json | "
+               "--document DOC.mtlx [--material NAME]) [--wavelength NM,...] [--channel r|g|b] "
+               "[--name NAME]");
     ap.arg("--out DIR").help("folder to write (created if missing)");
+    ap.arg("--format NAME")
+        .help("materialx (default: the node library and GLSL) or openmaterial (the material's "
+              "ASAM OpenMATERIAL 3D files NAME.xomp and NAME_brdf.xompt)")
+        .defaultval("materialx");
+    ap.arg("--json FILE.json").dest("json").help("openmaterial: the material as node inputs");
+    ap.arg("--wavelength NM")
+        .help("openmaterial: the table's wavelengths in nm, comma-separated (default 905,1550)")
+        .defaultval("905,1550");
+    ap.arg("--channel C")
+        .help("openmaterial: the colour channel r, g or b (default r)")
+        .defaultval("r");
+    ap.arg("--name NAME").help("openmaterial: the files' stem and material name");
     ap.arg("--document DOC.mtlx")
         .dest("document")
         .help("choose the variant for this document's material");
@@ -126,6 +186,10 @@ int cmd_export(int argc, const char** argv) {
     fs::create_directories(dir, ec);
     if (ec || !fs::is_directory(dir))
         throw InputError("--out " + out + ": cannot create the folder (" + ec.message() + ")");
+    const std::string format = ap["format"].get<std::string>();
+    if (format == "openmaterial") return export_openmaterial(ap, dir);
+    if (format != "materialx")
+        throw InputError("--format " + format + ": expected materialx or openmaterial");
     int written = 0;
     for (const EmbeddedFile& f : embedded_files()) {
         write_file(dir / f.path, f.text);

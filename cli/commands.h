@@ -22,5 +22,6 @@ int cmd_ra(int argc, const char** argv);
 int cmd_fit(int argc, const char** argv);
 int cmd_approach(int argc, const char** argv);
 int cmd_view(int argc, const char** argv);
+int cmd_lidar(int argc, const char** argv);
 
 } // namespace retroprism

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cmath>
+#include <vector>
 
 namespace retroprism {
 
@@ -49,6 +50,32 @@ double integrate_adaptive(const F& f, double a, double b, double tol = 1e-12, in
     };
     Rec r{f, max_depth};
     return r.run(a, b, tol, 0);
+}
+
+// Gauss-Legendre nodes x and weights w of the n-point rule on [-1, 1], n >= 1 (Newton's
+// iteration on the Legendre polynomials' three-term recurrence, Abramowitz & Stegun 22.7.10,
+// from the initial guess cos(pi (i + 3/4) / (n + 1/2)); weights by A&S 25.4.29).
+inline void gauss_legendre(int n, std::vector<double>& x, std::vector<double>& w) {
+    x.assign(n, 0.0);
+    w.assign(n, 0.0);
+    for (int i = 0; i < (n + 1) / 2; ++i) {
+        double z = std::cos(3.14159265358979323846 * (i + 0.75) / (n + 0.5)), dp = 1.0;
+        for (int it = 0; it < 100; ++it) {
+            double p0 = 1.0, p1 = z;
+            for (int k = 2; k <= n; ++k) {
+                const double p2 = ((2.0 * k - 1.0) * z * p1 - (k - 1.0) * p0) / k;
+                p0 = p1;
+                p1 = p2;
+            }
+            dp = n * (z * p1 - p0) / (z * z - 1.0);
+            const double dz = p1 / dp;
+            z -= dz;
+            if (std::abs(dz) < 1e-16) break;
+        }
+        x[i] = -z;
+        x[n - 1 - i] = z;
+        w[i] = w[n - 1 - i] = 2.0 / ((1.0 - z * z) * dp * dp);
+    }
 }
 
 } // namespace retroprism

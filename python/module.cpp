@@ -10,6 +10,7 @@
 #include "error.h"
 #include "params.h"
 #include "photometry.h"
+#include "sensor.h"
 
 namespace retroprism::python {
 
@@ -199,6 +200,7 @@ PYBIND11_MODULE(retroprism, m) {
     m.attr("__version__") = RP_VERSION;
     pyb::register_exception<retroprism::InputError>(m, "InputError", PyExc_ValueError);
     define_node(m);
+    define_lidar(m);
     m.def("param_table", &param_table_python,
           "The node's inputs: name, type, default, range (min, max) or values, doc.");
     m.def("era", &era_of, pyb::arg("theta_t"), pyb::arg("phi") = 0.0, pyb::arg("mode") = "averaged",

@@ -11,7 +11,7 @@ packages=(
   clang-format universal-ctags libbenchmark-dev fonts-dejavu-core
   libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri glslang-tools spirv-tools
   clang libclang-rt-14-dev llvm
-  pybind11-dev python3-dev python3-numpy python3-pytest libfftw3-dev
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-jsonschema libfftw3-dev
   chromium
   doxygen python3-sphinx python3-breathe python3-myst-parser furo
 )
