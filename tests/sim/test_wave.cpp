@@ -19,6 +19,7 @@
 #include "cube_corner.h"
 #include "error.h"
 #include "microgeometry.h"
+#include "quadrature.h"
 #include "test_support.h"
 #include "wave_optics.h"
 
@@ -60,26 +61,12 @@ wave::Pupil scalar_pupil(const wave::Polygon& p, double lambdaUm) {
     return pupil;
 }
 
-// Gauss-Legendre nodes and weights on [0, 1] (Newton on the Legendre recurrence).
-void gauss_legendre(int n, std::vector<double>& x, std::vector<double>& w) {
-    x.assign(size_t(n), 0.0);
-    w.assign(size_t(n), 0.0);
-    for (int i = 0; i < n; ++i) {
-        double z = std::cos(kPi * (i + 0.75) / (n + 0.5)), dp = 0;
-        for (int it = 0; it < 100; ++it) {
-            double p0 = 1, p1 = z;
-            for (int k = 2; k <= n; ++k) {
-                const double p2 = ((2 * k - 1) * z * p1 - (k - 1) * p0) / k;
-                p0 = p1;
-                p1 = p2;
-            }
-            dp = n * (z * p1 - p0) / (z * z - 1);
-            const double dz = p1 / dp;
-            z -= dz;
-            if (std::abs(dz) < 1e-15) break;
-        }
-        x[size_t(i)] = 0.5 * (1 - z);
-        w[size_t(i)] = 1.0 / ((1 - z * z) * dp * dp);
+// Gauss-Legendre nodes and weights on [0, 1]: the library's rule on [-1, 1] mapped.
+void gauss_legendre_unit(int n, std::vector<double>& x, std::vector<double>& w) {
+    retroprism::gauss_legendre(n, x, w);
+    for (size_t i = 0; i < x.size(); ++i) {
+        x[i] = 0.5 * (1 + x[i]);
+        w[i] *= 0.5;
     }
 }
 
@@ -87,7 +74,7 @@ void gauss_legendre(int n, std::vector<double>& x, std::vector<double>& w) {
 // unit square (n^2 nodes): an independent check of the closed form.
 cplx triangle_quadrature(const dvec2& a, const dvec2& b, const dvec2& c, const dvec2& k, int n) {
     std::vector<double> x, w;
-    gauss_legendre(n, x, w);
+    gauss_legendre_unit(n, x, w);
     const double area2 = std::abs((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x));
     cplx sum = 0;
     for (int i = 0; i < n; ++i)
@@ -226,7 +213,7 @@ TEST_CASE("polygon transform: Parseval and the tail constant 2 P / k^3", "[wave]
     // C / (2 pi K), C the measured mean of k^3 <|F|^2>_azimuth over [K/2, K]; the edges' spikes
     // give C = 2 P (docs/wave_optics.md): R_A's tail lambda P_eff / (4 pi^3 theta^3 A_cell).
     std::vector<double> gx, gw;
-    gauss_legendre(8, gx, gw);
+    gauss_legendre_unit(8, gx, gw);
     for (int shape = 0; shape < 2; ++shape) {
         const wave::Polygon p =
             shape == 0 ? wave::Polygon{{0, 0}, {1.2, 0.1}, {0.3, 1.0}} : regular_polygon(6, 0.6);
@@ -815,7 +802,7 @@ TEST_CASE("far field: Parseval over observation directions of a TIR prism", "[wa
     const wave::FarField ff(pupil);
     const dvec2 g(wi.x, wi.y);
     std::vector<double> gx, gw;
-    gauss_legendre(8, gx, gw);
+    gauss_legendre_unit(8, gx, gw);
     // Harmonics on the circle up to K times the pupil's diameter (~110): 512 nodes.
     const double bigK = 3.0, panel = 0.05;
     const int nPhi = 512;
