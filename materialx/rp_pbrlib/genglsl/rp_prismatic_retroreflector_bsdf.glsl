@@ -2797,7 +2797,7 @@ float rp_dispersed_ior(float nD, float abbe, float wavelengthNm) {
     if (!(abbe > float(0.0)) || !(wavelengthNm > float(0.0))) return nD;
     float b = (nD - float(1.0)) /
              (abbe * (float(1.0) / (RP_LINE_F * RP_LINE_F) - float(1.0) / (RP_LINE_C * RP_LINE_C)));
-    float lam = max(wavelengthNm, RP_MIN_WAVELENGTH_NM) * float(0.001);
+    float lam = wavelengthNm * float(0.001);
     return clamp(nD + b * (float(1.0) / (lam * lam) - float(1.0) / (RP_LINE_D * RP_LINE_D)),
                  float(1.0), float(3.0));
 }
@@ -2843,9 +2843,7 @@ vec2 rp_diffraction_coherence(int prismReflection, float eta) {
 void rp_prepare_diffraction(inout rp_material m, float pitchUm, float wavelengthNm,
                                   float cantDeg) {
     m.diffraction = 1;
-    vec3 lam = wavelengthNm > float(0.0)
-                   ? vec3(max(wavelengthNm, RP_MIN_WAVELENGTH_NM) * float(0.001))
-                   : RP_CHANNEL_WAVELENGTHS;
+    vec3 lam = wavelengthNm > float(0.0) ? vec3(wavelengthNm * float(0.001)) : RP_CHANNEL_WAVELENGTHS;
     // Pitches below RP_DIFF_MIN_PITCH_UM take it: lambda / pitch stays finite (its pattern then
     // spreads to RP_DIFF_MAX_WIDTH2 anyway).
     m.diff_scale = lam / max(pitchUm, RP_DIFF_MIN_PITCH_UM);
@@ -2891,6 +2889,8 @@ rp_material rp_prepare(float weight, vec3 diffuseColor, vec3 retroColor, float s
                              float wavelengthNm, int retroAnisotropic, int reciprocal,
                              int fidelity) {
     rp_material m;
+    // Wavelengths below RP_MIN_WAVELENGTH_NM take it; 0 stays (the colour channels').
+    if (wavelengthNm > float(0.0)) wavelengthNm = max(wavelengthNm, RP_MIN_WAVELENGTH_NM);
     ior = rp_dispersed_ior(ior, abbeNumber, wavelengthNm);
     m.weight = weight;
     m.specular = specular;
