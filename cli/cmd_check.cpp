@@ -2,7 +2,6 @@
 // contract (backends/check.h) and every approximation's accuracy (backends/approximation.h, R_A
 // tables by analysis/photometry.h), or the adversarial sweep (backends/stress.h).
 #include <algorithm>
-#include <cmath>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -116,20 +115,25 @@ int cmd_check(int argc, const char** argv) {
         const std::string given = ap["evaluations"].get<std::string>();
         if (quick && !given.empty())
             throw InputError("--evaluations: not with --quick (the bounded sweep has its size)");
-        const double n = given.empty() ? 1e7 : double(parse_count(given, "--evaluations", 1, 1e12));
-        if (quick)
-            std::printf("size: the bounded sweep (--quick): the hard materials on every 7th "
-                        "direction pair (materialx every 13th), at least 1e6 evaluations per C++ "
-                        "backend and 5e5 for glsl\n");
-        else
-            std::printf("size: at least %.0f evaluations per C++ backend, %.0f per GL backend "
+        const stress::Options sized = stress::sized_options(
+            given.empty() ? stress::Options().cpp_evaluations
+                          : long(parse_count(given, "--evaluations", 1, 1e12)));
+        if (quick) {
+            const stress::Options cpp = stress::quick_options("cpp-double");
+            std::printf("size: the bounded sweep (--quick): the hard materials on every %dth "
+                        "direction pair (materialx every %dth), at least %ld evaluations per C++ "
+                        "backend and %ld for glsl\n",
+                        cpp.pair_stride, stress::quick_options("materialx").pair_stride,
+                        cpp.cpp_evaluations, stress::quick_options("glsl").gl_evaluations);
+        } else {
+            std::printf("size: at least %ld evaluations per C++ backend, %ld per GL backend "
                         "(--evaluations N; --quick for the bounded sweep)\n",
-                        n, std::max(1.0, std::floor(n / 10)));
+                        sized.cpp_evaluations, sized.gl_evaluations);
+        }
         std::fflush(stdout);
         StressTable table(stress::coverage(), stdout);
         for (const std::string& b : backends)
-            table.add(stress::sweep_backend(b, quick ? stress::quick_options(b)
-                                                     : stress::sized_options(long(n))));
+            table.add(stress::sweep_backend(b, quick ? stress::quick_options(b) : sized));
         return table.finish() ? 0 : 1;
     }
     bool all = true;
