@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
-#include <sstream>
 #include <string>
 
 #include "error.h"
@@ -12,6 +11,7 @@
 #include "quadrature.h"
 #include "ra_fit.h"
 #include "ra_table.h"
+#include "parse.h"
 
 namespace retroprism {
 
@@ -19,13 +19,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
-
-// A number in messages, as iostreams write it.
-std::string num(double v) {
-    std::ostringstream s;
-    s << v;
-    return s.str();
-}
 
 struct GaussLegendre {
     std::vector<double> x, w;
@@ -94,7 +87,7 @@ void two_panels(const GaussLegendre& g, double lo, double hi, std::vector<double
 }
 
 void require(bool ok, const std::string& what, double value, const std::string& allowed) {
-    if (!ok) throw InputError(what + " " + num(value) + ": must be " + allowed);
+    if (!ok) throw InputError(what + " " + number_text(value) + ": must be " + allowed);
 }
 
 } // namespace
@@ -135,27 +128,27 @@ void check_lidar_inputs(const LidarSensor& s, const LidarTarget& t, const LidarQ
     const double offset = glm::length(d);
     if (!(std::isfinite(d.x) && std::isfinite(d.y) && std::isfinite(d.z)) ||
         !(offset <= 0.1 * t.range_m))
-        throw InputError("--offset " + num(d.x) + "," + num(d.y) + "," + num(d.z) +
-                         ": must be finite, at most range / 10 = " + num(0.1 * t.range_m) +
-                         " m long");
+        throw InputError(
+            "--offset " + number_text(d.x) + "," + number_text(d.y) + "," + number_text(d.z) +
+            ": must be finite, at most range / 10 = " + number_text(0.1 * t.range_m) + " m long");
     require(s.divergence_mrad > 0.0 && s.divergence_mrad <= 100.0, "--divergence",
             s.divergence_mrad, "in (0, 100] mrad");
     require(s.aperture_m > 0.0 && s.aperture_m <= std::min(1.0, 0.1 * t.range_m), "--aperture",
             s.aperture_m,
-            "in (0, " + num(std::min(1.0, 0.1 * t.range_m)) + "] m (1 m and range / 10)");
+            "in (0, " + number_text(std::min(1.0, 0.1 * t.range_m)) + "] m (1 m and range / 10)");
     require(std::isfinite(t.rotation_deg), "--rotation", t.rotation_deg, "finite");
     // Every ray of the truncated beam meets the target's plane in front of the sensor, with a
     // margin: |tan(beta)| kBeamTruncation tan(divergence / 2) < 0.9.
     const double slope = kBeamTruncation * std::tan(0.5e-3 * s.divergence_mrad);
     const double betaMax = std::atan(0.9 / slope) / kDeg;
     require(std::abs(t.entrance_deg) < betaMax, "--entrance", t.entrance_deg,
-            "in (-" + num(betaMax) + ", " + num(betaMax) +
+            "in (-" + number_text(betaMax) + ", " + number_text(betaMax) +
                 ") degrees (the beam, to 4 times its 1/e^2 radius, meets the target's plane)");
     const bool infinite = t.width_m == 0.0 && t.height_m == 0.0;
     const bool finite =
         t.width_m > 0.0 && t.width_m <= 1e4 && t.height_m > 0.0 && t.height_m <= 1e4;
     if (!infinite && !finite)
-        throw InputError("--size " + num(t.width_m) + "," + num(t.height_m) +
+        throw InputError("--size " + number_text(t.width_m) + "," + number_text(t.height_m) +
                          ": width and height must both be in (0, 10000] m, or both 0 (a target "
                          "larger than the footprint)");
     require(q.footprint >= 1 && q.footprint <= 64, "footprint order", q.footprint, "in [1, 64]");

@@ -1,5 +1,4 @@
 #include "mtlx_reader.h"
-#include "parse.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,6 +8,7 @@
 
 #include <pugixml.hpp>
 
+#include "parse.h"
 #include "query.h"
 #include "text_file.h"
 
@@ -18,12 +18,6 @@ namespace {
 
 // Attributes that connect an input instead of giving it a value.
 const char* const kConnectionAttributes[] = {"nodename", "nodegraph", "output", "interfacename"};
-
-std::string num(double v) {
-    std::ostringstream ss;
-    ss << v;
-    return ss.str();
-}
 
 std::string join(const std::vector<std::string>& v, const char* sep = ", ") {
     std::string out;
@@ -192,14 +186,15 @@ pugi::xml_node connected_node(const Reader& r, const pugi::xml_node& input, cons
 void set_param(const Reader& r, const pugi::xml_node& input, const ParamInfo& info,
                const std::string& text, Params& p, MtlxColorInput& color) {
     const std::string name = info.name;
-    const std::string range = "[" + num(info.min_value) + ", " + num(info.max_value) + "]";
+    const std::string range =
+        "[" + number_text(info.min_value) + ", " + number_text(info.max_value) + "]";
     switch (info.type) {
     case ParamType::Float: {
         double v;
         if (!parse_float(text, v))
             r.fail(input, "value \"" + text + "\" is not a number; expected a float in " + range);
         if (v < info.min_value || v > info.max_value)
-            r.fail(input, "value " + num(v) + " is outside its range " + range);
+            r.fail(input, "value " + number_text(v) + " is outside its range " + range);
         *input_field<double>(p, name) = v;
         break;
     }
@@ -210,7 +205,7 @@ void set_param(const Reader& r, const pugi::xml_node& input, const ParamInfo& in
                               "\" is not a color3; expected three numbers \"r, g, b\" in [0, 1]");
         for (int k = 0; k < 3; ++k)
             if (v[size_t(k)] < 0.0 || v[size_t(k)] > 1.0)
-                r.fail(input, "component " + std::to_string(k) + " = " + num(v[size_t(k)]) +
+                r.fail(input, "component " + std::to_string(k) + " = " + number_text(v[size_t(k)]) +
                                   " is outside its range [0, 1]");
         color.value = v;
         *input_field<Color3>(p, name) = v;

@@ -4,11 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 
 #include "accuracy_plots.h"
 #include "plot.h"
 #include "template.h"
+#include "parse.h"
 
 namespace retroprism::report {
 
@@ -19,13 +19,6 @@ using sim::ConfigResult;
 using sim::kResolvedSe;
 using sim::kVariants;
 using sim::Worst;
-
-// A number as an ostream prints it by default (6 significant digits).
-std::string num(double v) {
-    std::ostringstream s;
-    s << v;
-    return s.str();
-}
 
 std::string pct(double v) {
     if (!std::isfinite(v)) return "n/a";
@@ -126,7 +119,7 @@ std::string table_per_theta(const sim::StudyResults& s) {
         md += "---|---|";
     md += "\n";
     for (double theta : s.grid.thetas) {
-        md += "| " + num(theta);
+        md += "| " + number_text(theta);
         for (int v = 0; v < 4; ++v) {
             Worst a, b, e;
             for (const ConfigResult& r : s.results) {
@@ -145,13 +138,13 @@ std::string table_per_theta(const sim::StudyResults& s) {
 std::string table_width_formulas(const sim::StudyResults& s) {
     std::string md = "| theta_i |";
     for (double a : s.grid.alphas)
-        md += " alpha " + num(a) + ": along | across |";
+        md += " alpha " + number_text(a) + ": along | across |";
     md += "\n|---|";
     for (size_t i = 0; i < s.grid.alphas.size(); ++i)
         md += "---|---|";
     md += "\n";
     for (double theta : s.grid.thetas) {
-        md += "| " + num(theta);
+        md += "| " + number_text(theta);
         for (double alpha : s.grid.alphas)
             for (int along = 1; along >= 0; --along) {
                 std::vector<double> simR, anR;
@@ -186,9 +179,9 @@ std::string table_retro_energy(const sim::StudyResults& s) {
                     mult += r.sim.energyMultiple.value;
                     ++n;
                 }
-                md += std::string("| ") + sim::prism_name(prism) + " | " + num(theta) + " | " +
-                      num(alpha) + " | " + fmt("%.4g", sv / n) + " | " + fmt("%.4g", a / n) +
-                      " | " + (sv > 0 ? pct(a / sv - 1) : "n/a") + " | " +
+                md += std::string("| ") + sim::prism_name(prism) + " | " + number_text(theta) +
+                      " | " + number_text(alpha) + " | " + fmt("%.4g", sv / n) + " | " +
+                      fmt("%.4g", a / n) + " | " + (sv > 0 ? pct(a / sv - 1) : "n/a") + " | " +
                       (sv > 0 ? fmt("%.1f%%", 100 * mult / sv) : "n/a") + " |\n";
             }
     return md;
@@ -207,7 +200,8 @@ std::string table_diffuse(const sim::StudyResults& s, std::array<std::vector<dou
             for (double theta : s.grid.thetas) {
                 const ConfigResult& r = s.at(theta, s.diffuse_alpha(), eta, prism);
                 const ConfigResult& d = s.direct[di++];
-                md += "| " + num(eta) + " | " + sim::prism_name(prism) + " | " + num(theta);
+                md += "| " + number_text(eta) + " | " + sim::prism_name(prism) + " | " +
+                      number_text(theta);
                 for (double v : {r.sim.diffuseNormal.value, d.sim.diffuseNormal.value,
                                  r.v[0].diffuseNormal, r.v[2].diffuseNormal, r.sim.diffuse60.value,
                                  d.sim.diffuse60.value, r.v[0].diffuse60, r.v[2].diffuse60,
@@ -291,13 +285,13 @@ void reciprocity_values(const sim::StudyResults& s, const sim::Reciprocity& rec,
 std::string table_surface(const sim::StudyResults& s) {
     std::string md = "| theta_i |";
     for (double a : s.grid.alphas)
-        md += " alpha " + num(a) + ": sim all orders / sim single / analytic |";
+        md += " alpha " + number_text(a) + ": sim all orders / sim single / analytic |";
     md += "\n|---|";
     for (size_t i = 0; i < s.grid.alphas.size(); ++i)
         md += "---|";
     md += "\n";
     for (double theta : s.grid.thetas) {
-        md += "| " + num(theta);
+        md += "| " + number_text(theta);
         for (double alpha : s.grid.alphas) {
             double all = 0, single = 0, an = 0;
             int n = 0;
@@ -322,8 +316,9 @@ std::string table_appendix(const sim::StudyResults& s) {
         md += std::string(" ") + v.key + " |";
     md += "\n|---|---|---|---|---|---|---|---|---|---|\n";
     for (const ConfigResult& r : s.results) {
-        md += "| " + num(r.c.theta) + " | " + num(r.c.alpha) + " | " + num(r.c.eta) + " | " +
-              sim::prism_name(r.c.prism) + " | " + fmt("%.4g", r.sim.energy.value) + " | " +
+        md += "| " + number_text(r.c.theta) + " | " + number_text(r.c.alpha) + " | " +
+              number_text(r.c.eta) + " | " + sim::prism_name(r.c.prism) + " | " +
+              fmt("%.4g", r.sim.energy.value) + " | " +
               (r.sim.fit.ok ? fmt("%.4g", r.sim.fit.ax) + " / " + fmt("%.4g", r.sim.fit.ay) : "-") +
               " |";
         const bool rp = sim::width_resolved(r.sim, true), rq = sim::width_resolved(r.sim, false);
@@ -381,7 +376,7 @@ void width_findings(const sim::StudyResults& s, TemplateValues& tv) {
         const std::string n = name;
         const auto& as = s.grid.alphas;
         tv.flags[n] = std::find(as.begin(), as.end(), alpha) != as.end();
-        tv.text[n + "_alpha"] = num(alpha);
+        tv.text[n + "_alpha"] = number_text(alpha);
         for (const auto& [key, v] :
              {std::pair<const char*, int>{"iso", 0}, {"aniso", 1}, {"anisorec", 3}}) {
             tv.text[n + "_" + key + "_along"] = tv.flags[n] ? width_row(s, v, true, alpha) : "";
@@ -437,8 +432,8 @@ void lobe_findings(const sim::StudyResults& s, TemplateValues& tv) {
         }
     tv.flags["surface_multiple"] = n > 0 && single > 0;
     tv.text["surface_multiple"] = fmt("%.1f%%", 100 * (all / single - 1));
-    tv.text["last_theta"] = num(s.grid.thetas.back());
-    tv.text["last_alpha"] = num(s.grid.alphas.back());
+    tv.text["last_theta"] = number_text(s.grid.thetas.back());
+    tv.text["last_alpha"] = number_text(s.grid.alphas.back());
 }
 
 void header_values(const sim::StudyResults& s, const std::string& docPath,
@@ -463,7 +458,7 @@ void header_values(const sim::StudyResults& s, const std::string& docPath,
     tv.text["minutes"] = fmt("%.1f", s.elapsed / 60);
     tv.text["plot_dir"] = plotDir;
     tv.text["resolved_pct"] = fmt("%.0f", 100 * kResolvedSe);
-    tv.text["diffuse_alpha"] = num(s.diffuse_alpha());
+    tv.text["diffuse_alpha"] = number_text(s.diffuse_alpha());
     tv.text["recip_cone_deg"] = fmt("%g", sim::kRecipConeDeg);
     std::string images;
     for (const std::string& p : accuracy_plot_names(s.grid))

@@ -8,15 +8,11 @@
 
 namespace retroprism {
 
-namespace {
-
 std::string number_text(double v) {
     char buf[40];
     std::snprintf(buf, sizeof buf, "%g", v);
     return buf;
 }
-
-} // namespace
 
 std::optional<double> try_parse_number(const std::string& text, bool finiteOnly) {
     char* end = nullptr;

@@ -13,6 +13,10 @@ namespace retroprism {
 // writes them) are numbers too.
 std::optional<double> try_parse_number(const std::string& text, bool finiteOnly = true);
 
+// `v` as messages and reports write it: 6 significant digits, as printf's %g and an ostream's
+// default (0.1, 1e+30, inf, nan).
+std::string number_text(double v);
+
 // The whole of `text` as a finite double; otherwise an InputError `<what> <text>: expected a
 // finite number`.
 double parse_number(const std::string& text, const std::string& what);
