@@ -12,6 +12,7 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${FUZZ_BUILD_DIR:-$root/build-fuzz}"
 seconds="${FUZZ_SECONDS:-60}"
 targets="${FUZZ_TARGETS:-closure query mtlx alta ra_table study openmaterial}"
+jobs="${FUZZ_JOBS:-$(nproc)}"
 
 bash "$root/scripts/setup-debian.sh"
 if ! command -v clang++ >/dev/null 2>&1; then
@@ -23,6 +24,7 @@ cmake -S "$root/fuzz" -B "$build" -G Ninja -DCMAKE_CXX_COMPILER=clang++ \
 ninja -C "$build"
 
 # Sanitizer reports are fatal and symbolised; leaks are reported (and fail the run).
+# FUZZ_JOBS targets run at a time (default: the number of cores), each in one process.
 export ASAN_OPTIONS="${ASAN_OPTIONS:-abort_on_error=1:detect_leaks=1:symbolize=1}"
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1:symbolize=1}"
 if command -v llvm-symbolizer >/dev/null 2>&1; then
@@ -36,12 +38,10 @@ fuzz_run() {
     -artifact_prefix="$build/artifacts/$t/" "$build/corpus/$t" "$root/fuzz/corpus/$t" >>"$log" 2>&1
 }
 
-status=0
-summary=""
-for t in $targets; do
-  corpus="$build/corpus/$t"
-  artifacts="$build/artifacts/$t"
-  log="$build/fuzz_$t.log"
+# Fuzzes target $1 for $seconds s; its summary line goes to $build/fuzz_$1.result.
+fuzz_target() {
+  local t="$1" corpus="$build/corpus/$1" artifacts="$build/artifacts/$1" log="$build/fuzz_$1.log"
+  local start stalls rc input replay_start replay_rc replay_s execs cov line
   mkdir -p "$corpus" "$artifacts"
   : >"$log"
   echo "fuzz: $t for ${seconds} s"
@@ -89,15 +89,36 @@ for t in $targets; do
       "$seconds" "${cov:-cov: ?}" "$(ls "$corpus" | wc -l)")
     if [ "$stalls" -gt 0 ]; then line+=" ($stalls timeout(s) not reproduced, see the log)"; fi
   else
-    status=1
     line=$(printf '%-8s %12s executions: FAILED (exit %s), input in %s, log %s' "$t" \
       "${execs:-?}" "$rc" "$artifacts" "$log")
     grep -E 'VIOLATION|UNEXPECTED|ERROR: |runtime error|SUMMARY' "$log" | head -n 20 >&2 || true
   fi
   echo "$line"
-  summary+="$line"$'\n'
+  echo "$line" >"$build/fuzz_$t.result"
+}
+
+running=0
+for t in $targets; do
+  rm -f "$build/fuzz_$t.result"
+  if [ "$running" -ge "$jobs" ]; then
+    wait -n || true
+    running=$((running - 1))
+  fi
+  fuzz_target "$t" &
+  running=$((running + 1))
 done
+wait || true
+
+status=0
 echo
-echo "fuzz summary (${seconds} s per target):"
-printf '%s' "$summary"
+echo "fuzz summary (${seconds} s per target, $jobs at a time):"
+for t in $targets; do
+  if [ -f "$build/fuzz_$t.result" ]; then
+    line=$(cat "$build/fuzz_$t.result")
+  else
+    line="$t: FAILED (no result: the run was interrupted)"
+  fi
+  case "$line" in *": ok"*) ;; *) status=1 ;; esac
+  echo "$line"
+done
 exit "$status"
