@@ -490,6 +490,7 @@ typename PrismaticRetroreflector<Real>::vec3 PrismaticRetroreflector<Real>::diff
         const Real scale = m_.diff_scale[ch];
         for (int t = 0; t < terms; ++t) {
             const auto term = diffraction_term_of(m_, s, t);
+            if (!(term.x > 0)) continue;
             const int side =
                 std::max(1, int(std::ceil(std::sqrt(double(term.x) * double(grid) * grid))));
             const double weight = double(term.x) / (double(channels) * side * side * rings);

@@ -384,12 +384,16 @@ struct Chi2Result {
 };
 
 // The retro lobe's width along the plane of incidence for the test's grids: alphaPar, with
-// diffraction widened by the pattern's core (rp_diffraction_widths, the widest channel), and by
-// the ring of spots.
+// diffraction widened by the pattern's widest core (rp_diffraction_widths, the widest channel;
+// the face orders' core when they are not fully coherent), and by the ring of spots.
+double core_variance(const f64::rp_incident& s) {
+    return s.diffCoherent < 1.0 ? std::max(s.diffCore2, s.diffOrderCore2) : s.diffCore2;
+}
+
 double retro_width(const f64::rp_material& m, const f64::rp_incident& s, const dvec3& wi) {
     if (m.diffraction == 0) return s.alphaPar * (1.0 + s.ringRadius);
     const double scale = std::max({m.diff_scale.x, m.diff_scale.y, m.diff_scale.z});
-    const double var = std::min(2.0 * s.diffCore2 * scale * scale / (wi.z * wi.z),
+    const double var = std::min(2.0 * core_variance(s) * scale * scale / (wi.z * wi.z),
                                 double(f64::RP_DIFF_MAX_WIDTH2));
     return std::sqrt(s.geoPar2 + var) + s.alphaPar * s.ringRadius;
 }
@@ -398,7 +402,7 @@ double retro_width(const f64::rp_material& m, const f64::rp_incident& s, const d
 double retro_ratio(const f64::rp_material& m, const f64::rp_incident& s, const dvec3& wi) {
     if (m.diffraction == 0) return s.alphaPerp / s.alphaPar;
     const double scale = std::max({m.diff_scale.x, m.diff_scale.y, m.diff_scale.z});
-    const double var = 2.0 * s.diffCore2 * scale * scale;
+    const double var = 2.0 * core_variance(s) * scale * scale;
     const double cap = f64::RP_DIFF_MAX_WIDTH2;
     return std::sqrt((s.geoPerp2 + std::min(var, cap)) /
                      (s.geoPar2 + std::min(var / (wi.z * wi.z), cap)));

@@ -3093,18 +3093,21 @@ struct rp_incident {
     vec3 ePerp;   // perpendicular to the plane of incidence
     float alphaPar;
     float alphaPerp;
-    float invAlphaPar2;  // 1 / alphaPar^2
-    float invAlphaPerp2; // 1 / alphaPerp^2
-    float retroNorm;     // 1 / (pi alphaPar alphaPerp), the retro density's normalisation
-    float ringRadius;    // dihedral errors: the spot ring's radius in the slopes scaled by
-                        // 1 / alphaPar, 1 / alphaPerp (0: the perfect cube's lobe)
-    float diffCore2;     // diffraction: the pattern's Gaussian core's variance per axis, and
-    float diffTail;      // its Cauchy tail's scale, in nu = Delta s pitch / lambda
-    float geoPar2;       // diffraction: the geometric lobe's alphaPar^2, alphaPerp^2 before the
-    float geoPerp2;      // ring's stretch
-    float ringPar2;      // diffraction: the ring of spots' second moments in the slopes along and
-    float ringPerp2;     // across the plane of incidence (0 for perfect cubes)
-    vec3 lobeProb;      // P(surface), P(retro), P(diffuse); zero vector when nothing reflects
+    float invAlphaPar2;   // 1 / alphaPar^2
+    float invAlphaPerp2;  // 1 / alphaPerp^2
+    float retroNorm;      // 1 / (pi alphaPar alphaPerp), the retro density's normalisation
+    float ringRadius;     // dihedral errors: the spot ring's radius in the slopes scaled by
+                         // 1 / alphaPar, 1 / alphaPerp (0: the perfect cube's lobe)
+    float diffCoherent;   // diffraction: the coherent share c of the pattern (rp_diffraction_setup)
+    float diffCore2;      // diffraction: the whole aperture's pattern: its Gaussian core's variance
+    float diffTail;       // per axis and its Cauchy tail's scale, in nu = Delta s pitch / lambda
+    float diffOrderCore2; // diffraction: the face orders' pattern (share 1 - c): the same
+    float diffOrderTail;
+    float geoPar2;   // diffraction: the geometric lobe's alphaPar^2, alphaPerp^2 before the
+    float geoPerp2;  // ring's stretch
+    float ringPar2;  // diffraction: the ring of spots' second moments in the slopes along and
+    float ringPerp2; // across the plane of incidence (0 for perfect cubes)
+    vec3 lobeProb;  // P(surface), P(retro), P(diffuse); zero vector when nothing reflects
 };
 
 float rp_mean3(vec3 c) {
@@ -3157,17 +3160,32 @@ vec4 rp_aperture_measures(in rp_material m, vec3 d) {
     return vec4(area, area * area, perim, perim + float(4.0) * inner);
 }
 
+// The core's variance per axis and the tail's scale (x, y) of a pattern of peak `peak` and
+// tail slope `slope` in nu = Delta s pitch / lambda (rp_diffraction_setup): a Gaussian core of
+// weight RP_DIFF_CORE_WEIGHT plus a Cauchy law (1 + rho^2 / a^2)^(-3/2) a^-2 / (2 pi) of the rest
+// with (1 - w) a = slope and w / (2 pi s^2) + (1 - w) C / (2 pi a^2) = peak (C the discrete
+// tail's peak factor, RP_DIFF_TAIL_PEAK_*); the core keeps at least RP_DIFF_MIN_CORE_PEAK of the
+// peak (a pattern whose tail alone would pass its peak gets a core no wider than that).
+vec2 rp_diffraction_shape(in rp_material m, float peak, float slope) {
+    float w = RP_DIFF_CORE_WEIGHT;
+    float a = slope / (float(1.0) - w);
+    float tailPeak = m.fidelity == RP_FIDELITY_FAST ? RP_DIFF_TAIL_PEAK_FAST : RP_DIFF_TAIL_PEAK;
+    float corePeak = max(peak - (float(1.0) - w) * tailPeak / (float(2.0) * RP_PI * a * a),
+                        RP_DIFF_MIN_CORE_PEAK * peak);
+    return vec2(w / (float(2.0) * RP_PI * corePeak), a);
+}
+
 // The diffraction pattern of the prisms for the incident state s (docs/diffraction.md), summed
-// over the orientations of the ERA mode, each prism weighted by its aperture's area: the share
-// c = m.diff_coherence.x of the peak interferes over the whole aperture (A^2), the rest over each
-// face order alone (six equal orders: A^2 / 6); the tail's edges are the aperture's, P, and the
-// edges between orders weighted by m.diff_coherence.y, P + y (P_sub - P). The pattern, a density of
-// nu = Delta s pitch / lambda with Delta s the offset of wo's sheet-plane components from the
-// retro direction's, is modelled as a Gaussian core of weight RP_DIFF_CORE_WEIGHT plus a Cauchy
-// law (1 + rho^2 / a^2)^(-3/2) a^-2 / (2 pi) of the rest, with the peak sum A^2 / (sum A lambda^2)
-// and the azimuth-averaged tail lambda sum P / (4 pi^3 rho^3 sum A) of the polygon's Fraunhofer
-// pattern: (1 - w) a = sum P / (2 pi^2 sum A), w / (2 pi s^2) + (1 - w) C / (2 pi a^2) = peak
-// (C the discrete tail's peak factor, RP_DIFF_TAIL_PEAK_*).
+// over the orientations of the ERA mode, each prism weighted by its aperture's area, a density
+// of nu = Delta s pitch / lambda with Delta s the offset of wo's sheet-plane components from the
+// retro direction's. A share c = m.diff_coherence.x of it interferes over the whole aperture:
+// peak sum A^2 / sum A, azimuth-averaged tail lambda sum P / (4 pi^3 rho^3 sum A) of the
+// polygon's Fraunhofer pattern, slope sum P / (2 pi^2 sum A). The rest, 1 - c, over each face
+// order alone: six equal orders, peak sum A^2 / (6 sum A), and a tail whose edges are the
+// aperture's and those between orders weighted by y / (1 - c), y = m.diff_coherence.y, so that
+// the whole pattern's tail has the edges P + y (P_sub - P) the wave optics measures. Each share
+// is a core and a tail of its own (rp_diffraction_shape): the orders' pattern, of apertures a
+// sixth the size, is the wider.
 void rp_diffraction_setup(in rp_material m, inout rp_incident s, float sinThetaI,
                                 float cosThetaT) {
     // The prisms' orientations: one (oriented), the pair (matched_pair) or a midpoint rule of
@@ -3199,17 +3217,20 @@ void rp_diffraction_setup(in rp_material m, inout rp_incident s, float sinThetaI
         float sinT = min(sqrt(s.dt.x * s.dt.x + s.dt.y * s.dt.y), float(1.0));
         ce = rp_diffraction_coherence_tir(asin(sinT) * (float(180.0) / RP_PI), m.eta);
     }
-    float peak = (ce.x + (float(1.0) - ce.x) / float(6.0)) * sum.y / sum.x;
-    float slope = (sum.z + ce.y * (sum.w - sum.z)) / (float(2.0) * RP_PI * RP_PI * sum.x);
-    float w = RP_DIFF_CORE_WEIGHT;
-    float a = slope / (float(1.0) - w);
-    float tailPeak = m.fidelity == RP_FIDELITY_FAST ? RP_DIFF_TAIL_PEAK_FAST : RP_DIFF_TAIL_PEAK;
-    // The core's share of the peak, at least RP_DIFF_MIN_CORE_PEAK of it (a pattern whose tail
-    // alone would pass its peak gets a core no wider than that).
-    float corePeak = max(peak - (float(1.0) - w) * tailPeak / (float(2.0) * RP_PI * a * a),
-                        RP_DIFF_MIN_CORE_PEAK * peak);
-    s.diffCore2 = w / (float(2.0) * RP_PI * corePeak);
-    s.diffTail = a;
+    float peak = sum.y / sum.x;
+    float slope = sum.z / (float(2.0) * RP_PI * RP_PI * sum.x);
+    vec2 whole = rp_diffraction_shape(m, peak, slope);
+    s.diffCoherent = ce.x;
+    s.diffCore2 = whole.x;
+    s.diffTail = whole.y;
+    if (ce.x < float(1.0)) {
+        float edges = ce.y / (float(1.0) - ce.x);
+        vec2 orders = rp_diffraction_shape(m, peak / float(6.0),
+                                           (sum.z + edges * (sum.w - sum.z)) /
+                                               (float(2.0) * RP_PI * RP_PI * sum.x));
+        s.diffOrderCore2 = orders.x;
+        s.diffOrderTail = orders.y;
+    }
     // docs/dihedral.md: the ring's moments inside the prism carried out by the exit refraction
     // (rp_incident_lobes), absolute here.
     float magPar = m.eta * cosThetaT * s.invCosI;
@@ -3253,8 +3274,11 @@ void rp_incident_lobes(in rp_material m, vec3 wi, out rp_incident s) {
     s.invAlphaPerp2 = float(1.0);
     s.retroNorm = RP_INV_PI;
     s.ringRadius = float(0.0);
+    s.diffCoherent = float(1.0);
     s.diffCore2 = float(0.0);
     s.diffTail = float(0.0);
+    s.diffOrderCore2 = float(0.0);
+    s.diffOrderTail = float(0.0);
     s.geoPar2 = float(1.0);
     s.geoPerp2 = float(1.0);
     s.ringPar2 = float(0.0);
@@ -3476,28 +3500,40 @@ float rp_diffraction_term(vec3 wd, float sx, float sy) {
     return norm * exp(-x);
 }
 
-// The retro lobe's slope density with diffraction for one channel of lambda / pitch `scale`: the
-// geometric lobe convolved with the pattern's core and each scale of its tail.
-float rp_diffraction_channel(in rp_material m, in rp_incident s, float scale, float sx,
-                                  float sy) {
+// One share of the pattern (core variance core2, tail scale tail, rp_diffraction_shape) at the
+// slopes (sx, sy) for lambda / pitch `scale`: the geometric lobe convolved with its core and each
+// scale of its tail.
+float rp_diffraction_share(in rp_material m, in rp_incident s, float scale, float sx,
+                                float sy, float core2, float tail) {
     float scale2 = scale * scale;
-    float core = rp_diffraction_term(rp_diffraction_widths(s, s.diffCore2 * scale2), sx, sy);
-    float tail = float(0.0);
-    float a2 = s.diffTail * s.diffTail * scale2;
+    float core = rp_diffraction_term(rp_diffraction_widths(s, core2 * scale2), sx, sy);
+    float sum = float(0.0);
+    float a2 = tail * tail * scale2;
     if (m.fidelity == RP_FIDELITY_FAST) {
         for (int j = 0; j < RP_DIFF_TAIL_N_FAST; ++j) {
             float r = rp_diff_ratio_at(2 * j);
-            tail += rp_diff_weight_fast_at(j) *
-                    rp_diffraction_term(rp_diffraction_widths(s, a2 * r * r), sx, sy);
+            sum += rp_diff_weight_fast_at(j) *
+                   rp_diffraction_term(rp_diffraction_widths(s, a2 * r * r), sx, sy);
         }
     } else {
         for (int j = 0; j < RP_DIFF_TAIL_N; ++j) {
             float r = rp_diff_ratio_at(j);
-            tail += rp_diff_weight_at(j) *
-                    rp_diffraction_term(rp_diffraction_widths(s, a2 * r * r), sx, sy);
+            sum += rp_diff_weight_at(j) *
+                   rp_diffraction_term(rp_diffraction_widths(s, a2 * r * r), sx, sy);
         }
     }
-    return RP_DIFF_CORE_WEIGHT * core + (float(1.0) - RP_DIFF_CORE_WEIGHT) * tail;
+    return RP_DIFF_CORE_WEIGHT * core + (float(1.0) - RP_DIFF_CORE_WEIGHT) * sum;
+}
+
+// The retro lobe's slope density with diffraction for one channel of lambda / pitch `scale`: the
+// whole aperture's share and, when the face orders are not fully coherent, theirs.
+float rp_diffraction_channel(in rp_material m, in rp_incident s, float scale, float sx,
+                                  float sy) {
+    float whole = rp_diffraction_share(m, s, scale, sx, sy, s.diffCore2, s.diffTail);
+    if (!(s.diffCoherent < float(1.0))) return whole;
+    return s.diffCoherent * whole +
+           (float(1.0) - s.diffCoherent) *
+               rp_diffraction_share(m, s, scale, sx, sy, s.diffOrderCore2, s.diffOrderTail);
 }
 
 // True when every channel has the same lambda / pitch (a `wavelength` given).
@@ -3525,18 +3561,26 @@ vec3 rp_diffraction_density(in rp_material m, in rp_incident s, vec3 wo, vec3 wi
     return invCosP * invCosP * invCosP * d;
 }
 
-// The pattern's terms for the incident state s: term 0 its core, term j > 0 scale j - 1 of its
-// tail (every other scale in the fast tier); each term's weight and variance per axis in nu^2.
+// The pattern's terms for the incident state s: the face orders' share first (term 0 its core,
+// term j > 0 scale j - 1 of its tail, every other scale in the fast tier; weight 0 when the
+// orders are fully coherent), then the whole aperture's the same way; each term's weight and
+// variance per axis in nu^2. The last term's weight is never 0.
 int rp_diffraction_terms(in rp_material m) {
-    return 1 + (m.fidelity == RP_FIDELITY_FAST ? RP_DIFF_TAIL_N_FAST : RP_DIFF_TAIL_N);
+    return 2 * (1 + (m.fidelity == RP_FIDELITY_FAST ? RP_DIFF_TAIL_N_FAST : RP_DIFF_TAIL_N));
 }
 
 vec2 rp_diffraction_term_of(in rp_material m, in rp_incident s, int j) {
-    if (j == 0) return vec2(RP_DIFF_CORE_WEIGHT, s.diffCore2);
     bool fast = m.fidelity == RP_FIDELITY_FAST;
-    float w = fast ? rp_diff_weight_fast_at(j - 1) : rp_diff_weight_at(j - 1);
-    float r = fast ? rp_diff_ratio_at(2 * (j - 1)) : rp_diff_ratio_at(j - 1);
-    return vec2((float(1.0) - RP_DIFF_CORE_WEIGHT) * w, s.diffTail * s.diffTail * r * r);
+    int perShare = 1 + (fast ? RP_DIFF_TAIL_N_FAST : RP_DIFF_TAIL_N);
+    bool orders = j < perShare;
+    float share = orders ? float(1.0) - s.diffCoherent : s.diffCoherent;
+    float core2 = orders ? s.diffOrderCore2 : s.diffCore2;
+    float tail = orders ? s.diffOrderTail : s.diffTail;
+    int k = orders ? j : j - perShare;
+    if (k == 0) return vec2(share * RP_DIFF_CORE_WEIGHT, core2);
+    float w = fast ? rp_diff_weight_fast_at(k - 1) : rp_diff_weight_at(k - 1);
+    float r = fast ? rp_diff_ratio_at(2 * (k - 1)) : rp_diff_ratio_at(k - 1);
+    return vec2(share * (float(1.0) - RP_DIFF_CORE_WEIGHT) * w, tail * tail * r * r);
 }
 
 // A direction of one term of the lobe, variance var per axis of Delta s (rad^2), for u1, u2
@@ -3572,7 +3616,7 @@ vec3 rp_diffraction_sample(in rp_material m, in rp_incident s, vec3 wi, float u1
     }
     int n = rp_diffraction_terms(m);
     vec2 term = rp_diffraction_term_of(m, s, 0);
-    for (int j = 0; j < RP_DIFF_TAIL_N + 1; ++j) {
+    for (int j = 0; j < 2 * (RP_DIFF_TAIL_N + 1); ++j) {
         if (j >= n) break;
         term = rp_diffraction_term_of(m, s, j);
         if (u < term.x || j == n - 1) {
