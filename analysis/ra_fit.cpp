@@ -93,6 +93,8 @@ void node_search_space(Params& p, const std::vector<std::string>& held, std::vec
     for (const FitInfo& f : fit_table()) {
         const ParamInfo& info = *f.param;
         if (std::find(held.begin(), held.end(), info.name) != held.end()) continue;
+        // A base without a pitch is geometric optics, and stays so.
+        if (std::string(info.name) == "prism_pitch" && !(p.prism_pitch > 0)) continue;
         fitted.push_back(info.name);
         if (f.scale == FitScale::Choice) {
             Choice c;

@@ -7,7 +7,8 @@
 //    Log inputs), enums and booleans by trying every value (every combination when there are
 //    several; of combinations whose objectives agree within 1e-6 relative, the first in table
 //    order). Inputs not fitted keep the base material's values, as do the fittable inputs
-//    the caller holds (`retroprism fit --ra --hold NAME,...`).
+//    the caller holds (`retroprism fit --ra --hold NAME,...`). prism_pitch is fitted only when
+//    the base has one (diffraction on); a base without a pitch stays geometric optics.
 //  - Baseline ("mrm"): baselines::RetroreflectiveGGX, its GGX roughness in [1e-4, 1] (log), ior
 //    in [1.01, 3] and specular weight in [0, 1]; its Lambert colour is kept (0.8): at
 //    observation angles of a few degrees it adds < 0.3 cd lx^-1 m^-2.

@@ -1172,10 +1172,10 @@ TEST_CASE("R_A of an entry: presentation turns the observer about the source; no
 TEST_CASE("fit --ra: the fittable inputs of the parameter table are recovered from a synthetic "
           "table",
           "[photometry]") {
-    // The fitted inputs are the table's RP_FIT lines.
+    // The fitted inputs are the table's RP_FIT lines, but prism_pitch for a base without one.
     std::vector<std::string> names;
     for (const FitInfo& f : fit_table())
-        names.push_back(f.param->name);
+        if (std::string(f.param->name) != "prism_pitch") names.push_back(f.param->name);
     for (const char* n : {"retro_color", "roughness", "ior", "prism_reflection"})
         CHECK(std::count(names.begin(), names.end(), n) == 1);
     Params truth;
@@ -1232,23 +1232,56 @@ TEST_CASE("fit --ra: the fittable inputs of the parameter table are recovered fr
     CHECK(held.params.dihedral_spread == 0.0);
     CHECK(held.fitted.size() == names.size() - 2);
     CHECK(std::find(held.fitted.begin(), held.fitted.end(), "cant_angle") == held.fitted.end());
+    // The message names every fittable input, prism_pitch too.
+    std::string fittable;
+    for (const FitInfo& fi : fit_table())
+        fittable += (fittable.empty() ? "" : ", ") + std::string(fi.param->name);
     try {
         fit_ra_node(t, base, {"weight"});
         FAIL("no error");
     } catch (const InputError& e) {
         CHECK(contains(e.what(),
-                       "--hold weight: not a fitted input (the fitted inputs: " + list + ")"));
+                       "--hold weight: not a fitted input (the fitted inputs: " + fittable + ")"));
     }
 }
 
-TEST_CASE("The DG983 preset with diffraction: the table within 25%, light kept at 1 degree",
+TEST_CASE("fit --ra: the prism pitch is recovered when the base has one", "[photometry]") {
+    // Uncoated prisms of pitch 150 um: a wide table (0.1-1.5 deg) from them; the fit starts from
+    // a base of 100 um with the geometry's inputs held.
+    Params truth;
+    truth.roughness = 0.02;
+    truth.ior = 1.58;
+    truth.retro_color = {0.7, 0.7, 0.7};
+    truth.prism_reflection = 1; // tir
+    truth.prism_pitch = 150;
+    const RaMeasurements t =
+        synthetic_table(truth, {0.1, 0.2, 0.33, 0.5, 1.0, 1.5}, {-4.0, 15.0, 30.0});
+    Params base;
+    base.prism_reflection = 1;
+    base.prism_pitch = 100;
+    const RaNodeFit f = fit_ra_node(
+        t, base, {"prism_reflection", "cant_angle", "dihedral_error", "dihedral_spread"});
+    CHECK(std::count(f.fitted.begin(), f.fitted.end(), "prism_pitch") == 1);
+    std::printf("MEASURED: fit --ra with a pitch: prism_pitch %.6g (150), roughness %.6g (0.02), "
+                "ior %.6g (1.58), max error %.2e, %d evaluations\n",
+                f.params.prism_pitch, f.params.roughness, f.params.ior, f.report.max_error,
+                f.evaluations);
+    // The optimiser's stopping rule (1e-9 relative in the objective) leaves the inputs within
+    // about 1e-4; 1e-3 is the bound of the other synthetic fits.
+    CHECK(f.params.prism_pitch == Approx(150).epsilon(1e-3));
+    CHECK(f.params.roughness == Approx(0.02).epsilon(1e-3));
+    CHECK(f.report.max_error < 1e-3);
+}
+
+TEST_CASE("The DG983 preset with diffraction: the table within 28%, light kept at 1 degree",
           "[photometry]") {
-    // examples/sheeting/dg983_white_tir.mtlx: uncoated prisms of pitch 100 um (held), fitted to
-    // the datasheet's six rows (each the mean of rotations 0 and 90 degrees).
+    // examples/sheeting/dg983_white_tir.mtlx: uncoated prisms, their pitch fitted with the rest
+    // to the datasheet's six rows (each the mean of rotations 0 and 90 degrees).
     const MtlxDocument d = read_mtlx(source("examples/sheeting/dg983_white_tir.mtlx"));
     REQUIRE(d.materials.size() == 1);
     const Params& p = d.materials[0].params;
-    CHECK(p.prism_pitch == 100.0);
+    CHECK(p.prism_pitch > 50.0);
+    CHECK(p.prism_pitch < 200.0);
     CHECK(p.prism_reflection == 1); // tir
     const RaMeasurements dg = read_ra_table(source("examples/sheeting/dg983_white.csv"));
     const std::vector<double> v = ra_node_values(p, dg.entries);
@@ -1267,10 +1300,13 @@ TEST_CASE("The DG983 preset with diffraction: the table within 25%, light kept a
                 "R_A at entrance -4 deg %.1f / %.2f / %.2f at observation 0.2 / 1.0 / 1.5 deg "
                 "(%.1f%% and %.2f%% of the 0.2-deg value)\n",
                 100 * worst, v.size(), w[0], w[1], w[2], 100 * w[1] / w[0], 100 * w[2] / w[0]);
-    CHECK(worst <= 0.25);
+    // Measured 27.6% (docs/datasheet.md): the bound keeps the preset from drifting.
+    CHECK(worst <= 0.28);
     // Geometric optics keeps about 0.1% at 1 degree (the geometric preset at rotation 0: 0.93
-    // of 972): the diffraction tail keeps more than 3% at 1 degree and 1% at 1.5.
-    CHECK(w[1] / w[0] > 0.03);
+    // of 972): the diffraction tail keeps 5-25% at 1 degree, as microprismatic sheeting does
+    // (measured 7.5%), and more than 1% at 1.5.
+    CHECK(w[1] / w[0] > 0.05);
+    CHECK(w[1] / w[0] < 0.25);
     CHECK(w[2] / w[0] > 0.01);
 }
 
