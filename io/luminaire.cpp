@@ -479,9 +479,13 @@ LuminousIntensityDistribution parse_candela_csv(std::istream& in, const std::str
             throw InputError(where + ": " + std::to_string(f.size()) + " fields; expected " +
                              std::to_string(d.horizontal_deg.size() + 1) +
                              " (a vertical angle, then one intensity per horizontal angle)");
-        if (d.vertical_deg.size() >= size_t(kMaxAngles))
-            throw InputError(where + ": more than " + std::to_string(kMaxAngles) +
-                             " rows; expected at most that many vertical angles");
+        if (d.vertical_deg.size() >= size_t(kMaxAngles) ||
+            double(d.vertical_deg.size() + 1) * double(d.horizontal_deg.size()) > kMaxValues)
+            throw InputError(
+                where + ": more than " +
+                std::to_string(std::min<size_t>(size_t(kMaxAngles),
+                                                size_t(kMaxValues) / d.horizontal_deg.size())) +
+                " rows; expected at most 2000 vertical angles and 1e+06 values");
         std::vector<Token> tokens;
         for (const std::string& s : f)
             tokens.push_back({s, int(i) + 1});
