@@ -119,9 +119,12 @@ std::vector<HeadlampPoint> approach_headlamps(const LobeBrdf& brdf,
                                               const LuminousIntensityDistribution& left,
                                               const LuminousIntensityDistribution& right,
                                               const HeadlampSettings& s) {
-    if (s.curve_radius != 0 && std::abs(s.curve_radius) < 50)
+    const double minRadius = s.far_m / (0.5 * 3.14159265358979323846);
+    if (s.curve_radius != 0 && !(std::abs(s.curve_radius) >= minRadius))
         throw InputError("--curve-radius " + number_text(s.curve_radius) +
-                         ": expected 0 (straight) or a radius of at least 50 m");
+                         ": expected 0 (straight) or a radius of at least " +
+                         number_text(minRadius) + " m (the road turning at most 90 degrees over " +
+                         number_text(s.far_m) + " m)");
     const Vehicle& v = s.vehicle;
     const glm::dvec3 lamps[2] = {{-0.5 * v.lamp_spacing, v.lamp_height, 0.0},
                                  {0.5 * v.lamp_spacing, v.lamp_height, 0.0}};

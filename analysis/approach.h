@@ -98,7 +98,7 @@ struct HeadlampSettings {
     Vehicle vehicle = vehicle_presets()[0];
     double sign_right = 5.5;  // m
     double sign_height = 2.1; // m
-    double curve_radius = 0;  // m; 0: straight; > 0 turning right, < 0 left; |R| >= 50
+    double curve_radius = 0;  // m; 0: straight; > 0 turning right, < 0 left
     double demand_cd_m2 = 2.4;
     double near_m = 30, far_m = 300;
     int steps = 91;
@@ -122,7 +122,8 @@ struct HeadlampPoint {
     double demand = 0;      // cd m^-2
 };
 
-// InputError for a curve radius between -50 and 50 m other than 0.
+// InputError for a curve on which the road turns by more than 90 degrees over far_m (a radius
+// other than 0 below far_m / (pi / 2) in magnitude).
 std::vector<HeadlampPoint> approach_headlamps(const LobeBrdf& brdf,
                                               const LuminousIntensityDistribution& left,
                                               const LuminousIntensityDistribution& right,
