@@ -81,7 +81,14 @@ std::string lamp_caption(const ApproachSettings& s) {
 
 std::string headlamp_caption(const HeadlampSettings& s, const std::string& files) {
     const Vehicle& v = s.vehicle;
-    return "Low beams: " + files + " (" + v.name + fmt(": lamps %g m apart, ", v.lamp_spacing) +
+    std::string names; // the files without their folders
+    for (size_t start = 0; start <= files.size();) {
+        const size_t comma = std::min(files.find(',', start), files.size());
+        const std::string f = files.substr(start, comma - start);
+        names += (start > 0 ? "," : "") + f.substr(f.rfind('/') + 1);
+        start = comma + 1;
+    }
+    return "Low beams: " + names + " (" + v.name + fmt(": lamps %g m apart, ", v.lamp_spacing) +
            fmt("%g m up; eye ", v.lamp_height) + fmt("%g m up, ", v.eye_height) +
            fmt("%g m left); sign ", v.eye_left) + fmt("%g m right, ", s.sign_right) +
            fmt("%g m up; ", s.sign_height) +

@@ -27,8 +27,8 @@ OIIO::ImageBuf approach_figure(const std::string& title, const std::vector<Appro
 // The caption's first line for the one lamp of approach_luminance.
 std::string lamp_caption(const ApproachSettings& s);
 
-// The caption's first line for two headlamps from `files` (approach_headlamps): the vehicle,
-// the sign's place, the road and the demand.
+// The caption's first line for two headlamps from `files` (approach_headlamps; named without
+// their folders): the vehicle, the sign's place, the road and the demand.
 std::string headlamp_caption(const HeadlampSettings& s, const std::string& files);
 
 // The display PNGs at `paths` side by side, each with its label above it.
