@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <sstream>
 #include <string>
@@ -274,7 +275,18 @@ TEST_CASE("candela CSV: every error names FILE:LINE and the allowed form", "[lum
     std::string tall = "A, 0\n";
     for (int k = 0; k <= 2000; ++k)
         tall += std::to_string(-90 + k * 0.05) + ", 1\n";
-    err(tall, "x.csv:2002: more than 2000 rows; expected at most that many vertical angles");
+    err(tall, "x.csv:2002: more than 2000 rows; expected at most 2000 vertical angles and 1e+06 "
+              "values");
+    std::string big = "A";
+    for (int k = 0; k < 1000; ++k)
+        big += ", " + std::to_string(k * 0.1);
+    std::string bigRow;
+    for (int k = 0; k < 1000; ++k)
+        bigRow += ", 1";
+    for (int k = 0; k <= 1000; ++k)
+        big += "\n" + std::to_string(-50 + k * 0.05) + bigRow;
+    err(big + "\n", "x.csv:1002: more than 1000 rows; expected at most 2000 vertical angles and "
+                    "1e+06 values");
 }
 
 TEST_CASE("read_luminaire and read_headlamp_pair: file types and lists", "[luminaire]") {
@@ -410,7 +422,37 @@ TEST_CASE("two headlamps: a curve's sign, presets and bad input", "[luminaire]")
     CHECK(vehicle_preset("truck").eye_height > vehicle_preset("suv").eye_height);
     CHECK_THROWS_WITH(vehicle_preset("bus"), "--vehicle bus: expected car, suv or truck");
     CHECK_THROWS_WITH(sign_position("left"), "--sign left: expected shoulder or overhead");
-    s.curve_radius = 20;
+    s.curve_radius = -90; // 150 m along it the road turns by 95 degrees
     CHECK_THROWS_WITH(approach_headlamps(brdf, lid, lid, s),
-                      "--curve-radius 20: expected 0 (straight) or a radius of at least 50 m");
+                      "--curve-radius -90: expected 0 (straight) or a radius of at least 95.493 m "
+                      "(the road turning at most 90 degrees over 150 m)");
+}
+
+TEST_CASE("approach --headlamps end to end: the tables, and nothing written on bad input",
+          "[luminaire]") {
+    const std::string src = std::string(RP_SOURCE_DIR) + "/";
+    const fs::path out = fs::temp_directory_path() / "retroprism_luminaire_approach";
+    fs::remove_all(out);
+    const std::string common = src + "examples/sheeting/dg983_white.mtlx --table " + src +
+                               "examples/sheeting/dg983_white.csv --out " + out.string() +
+                               " --width 16 --height 9 --samples 1 --headlamps ";
+    const rptest::CommandRun bad = rptest::run_cli("approach " + common + data("plane.csv") + "," +
+                                                   data("type_c_2019.ies") + " --sign up");
+    CHECK(bad.status != 0);
+    CHECK(rptest::contains(bad.output, "--sign up: expected shoulder or overhead"));
+    const std::string broken = (fs::temp_directory_path() / "retroprism_broken.ies").string();
+    std::ofstream(broken) << edit("type_a_2002.ies", 10, "400 -500 600");
+    const rptest::CommandRun badFile = rptest::run_cli("approach " + common + broken);
+    CHECK(badFile.status != 0);
+    CHECK(rptest::contains(badFile.output, broken + ":10: value 2 of plane 2 (cd) \"-500\""));
+    CHECK(!fs::exists(out));
+
+    const rptest::CommandRun ok = rptest::run_cli(
+        "approach " + common + src + "examples/headlamps/synthetic_low_beam.ldt --vehicle suv");
+    INFO(ok.output);
+    REQUIRE(ok.status == 0);
+    CHECK(rptest::contains(ok.output, "L needed"));
+    CHECK(rptest::contains(ok.output, "     120 m right "));
+    CHECK(fs::exists(out / "dg983_white_approach.png"));
+    fs::remove_all(out);
 }
