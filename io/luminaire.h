@@ -82,7 +82,7 @@ glm::dvec2 photometric_angles(PhotometricType t, const glm::dvec3& direction);
 
 // The readers. Every error is an InputError "FILE:LINE: ..." naming what is wrong and the
 // allowed form or range: a missing or unknown header or TILT line (LM-63's TILT=INCLUDE and
-// TILT=<file> are not read: a headlamp is measured in its mounting position), a field that is
+// TILT=FILENAME are not read: a headlamp is measured in its mounting position), a field that is
 // not a finite number, a count out of range (angles 1 to 2000 each, at most 1,000,000 values),
 // an unknown photometric type or symmetry, angles out of range or not ascending, a negative
 // candela value or multiplier, a file that ends before its values do, values after them.
