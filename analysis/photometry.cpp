@@ -42,6 +42,31 @@ void ra_directions(double entranceDeg, double observationDeg, double rotationDeg
     wo = turn(v);
 }
 
+RaGeometry ra_geometry(const glm::dvec3& wiIn, const glm::dvec3& woIn) {
+    const glm::dvec3 wi = glm::normalize(wiIn), wo = glm::normalize(woIn);
+    RaGeometry g;
+    auto angle = [](const glm::dvec3& a, const glm::dvec3& b) {
+        return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b)) / kDeg;
+    };
+    g.entrance = angle(wi, glm::dvec3(0, 0, 1));
+    g.observation = angle(wi, wo);
+    // ra_directions turns (sin beta, 0, cos beta) by -epsilon about the normal.
+    if (std::hypot(wi.x, wi.y) > 0) g.rotation = -std::atan2(wi.y, wi.x) / kDeg;
+    if (g.rotation <= -180) g.rotation += 360;
+    const double e = g.rotation * kDeg, c = std::cos(e), s = std::sin(e);
+    auto unturn = [&](const glm::dvec3& w) {
+        return glm::dvec3(c * w.x - s * w.y, s * w.x + c * w.y, w.z);
+    };
+    const glm::dvec3 i = unturn(wi), v = unturn(wo);
+    const double o = (g.entrance - g.observation) * kDeg;
+    const glm::dvec3 coplanar(std::sin(o), 0.0, std::cos(o));
+    // The presentation angle: from the coplanar observation axis to wo about wi (Rodrigues).
+    const glm::dvec3 a = coplanar - i * glm::dot(i, coplanar), b = v - i * glm::dot(i, v);
+    if (glm::length(a) > 0 && glm::length(b) > 0)
+        g.presentation = std::atan2(glm::dot(i, glm::cross(a, b)), glm::dot(a, b)) / kDeg;
+    return g;
+}
+
 Params ra_params(const Params& material) {
     Params p = material;
     p.normal = {0.0, 0.0, 1.0};

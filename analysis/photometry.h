@@ -49,6 +49,16 @@ const std::vector<double>& ra_entrance_angles();    // -4, 15, 30, 40, 45
 void ra_directions(double entranceDeg, double observationDeg, double rotationDeg, glm::dvec3& wi,
                    glm::dvec3& wo, double presentationDeg = 0.0);
 
+// The angles (degrees) of a pair of directions in the sample frame, the inverse of
+// ra_directions: entrance beta in [0, 90] (unsigned: a negative entrance angle is the same
+// geometry with the rotation turned by 180 degrees), observation alpha, rotation epsilon and
+// presentation gamma in (-180, 180]; rotation 0 at normal incidence, presentation 0 at zero
+// observation.
+struct RaGeometry {
+    double entrance = 0, observation = 0, rotation = 0, presentation = 0;
+};
+RaGeometry ra_geometry(const glm::dvec3& wi, const glm::dvec3& wo);
+
 // The node's parameters for R_A: the material with the default frame (normal +z, tangent +x).
 Params ra_params(const Params& material);
 

@@ -67,6 +67,7 @@ install(FILES ${PROJECT_SOURCE_DIR}/docs/accuracy/results.csv
 install(FILES ${PROJECT_SOURCE_DIR}/docs/accuracy.md.in DESTINATION ${RP_DATA_DEST}/docs)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/examples/materials ${PROJECT_SOURCE_DIR}/examples/documents
                   ${PROJECT_SOURCE_DIR}/examples/sheeting ${PROJECT_SOURCE_DIR}/examples/consumer
+                  ${PROJECT_SOURCE_DIR}/examples/headlamps
         DESTINATION ${RP_DATA_DEST}/examples)
 install(DIRECTORY ${RP_GENERATED_DIR}/glsl/ DESTINATION ${RP_DATA_DEST}/glsl)
 # The look-dev page `retroprism view` serves (its static files) and its server, serve.py.

@@ -72,6 +72,31 @@ OIIO::ImageBuf approach_figure(const std::string& title, const std::vector<Appro
     return render(fig, text);
 }
 
+std::string lamp_caption(const ApproachSettings& s) {
+    return fmt("Low beam: %g cd toward the sign", s.lamp_cd) +
+           fmt("; the driver's eye %g m above the headlamp", s.eye_above_lamp) +
+           fmt("; the sign %g m right and", s.sign_right) +
+           fmt(" %g m above the headlamp, facing the road.", s.sign_up);
+}
+
+std::string headlamp_caption(const HeadlampSettings& s, const std::string& files) {
+    const Vehicle& v = s.vehicle;
+    std::string names; // the files without their folders
+    for (size_t start = 0; start <= files.size();) {
+        const size_t comma = std::min(files.find(',', start), files.size());
+        const std::string f = files.substr(start, comma - start);
+        names += (start > 0 ? "," : "") + f.substr(f.rfind('/') + 1);
+        start = comma + 1;
+    }
+    return "Low beams: " + names + " (" + v.name + fmt(": lamps %g m apart, ", v.lamp_spacing) +
+           fmt("%g m up; eye ", v.lamp_height) + fmt("%g m up, ", v.eye_height) +
+           fmt("%g m left); sign ", v.eye_left) + fmt("%g m right, ", s.sign_right) +
+           fmt("%g m up; ", s.sign_height) +
+           (s.curve_radius == 0 ? std::string("straight road")
+                                : fmt("curve radius %g m", s.curve_radius)) +
+           fmt("; needed %g cd m^-2.", s.demand_cd_m2);
+}
+
 OIIO::ImageBuf side_by_side(const std::vector<std::string>& paths,
                             const std::vector<std::string>& labels, Text& text) {
     namespace IBA = OIIO::ImageBufAlgo;

@@ -24,6 +24,13 @@ struct ApproachCurve {
 OIIO::ImageBuf approach_figure(const std::string& title, const std::vector<ApproachCurve>& curves,
                                const std::vector<std::string>& caption, Text& text);
 
+// The caption's first line for the one lamp of approach_luminance.
+std::string lamp_caption(const ApproachSettings& s);
+
+// The caption's first line for two headlamps from `files` (approach_headlamps; named without
+// their folders): the vehicle, the sign's place, the road and the demand.
+std::string headlamp_caption(const HeadlampSettings& s, const std::string& files);
+
 // The display PNGs at `paths` side by side, each with its label above it.
 OIIO::ImageBuf side_by_side(const std::vector<std::string>& paths,
                             const std::vector<std::string>& labels, Text& text);

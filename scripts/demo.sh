@@ -8,7 +8,9 @@
 # fit as the checked-in preset examples/sheeting/dg983_white.mtlx) and sets the preset against
 # that GGX: night previews at the same exposure and the sign's luminance for a driver
 # approaching from 300 m to 30 m (out/approach/), then the same for the preset with diffraction
-# (examples/sheeting/dg983_white_tir.mtlx).
+# (examples/sheeting/dg983_white_tir.mtlx); and the preset under two low beams from a
+# photometric file, the synthetic one of examples/headlamps/, beside the luminance a driver needs
+# (out/approach_headlamps/).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 bash "$root/scripts/build.sh"
@@ -26,3 +28,6 @@ sheeting="$root/examples/sheeting"
 # keeps its light at 1 degree of observation, where the geometric preset goes dark.
 "$cli" approach "$sheeting/dg983_white_tir.mtlx" --table "$sheeting/dg983_white.csv" \
   --out "$root/out/approach"
+# Two headlamps from a photometric file (the synthetic low beam), a car, a shoulder sign.
+"$cli" approach "$sheeting/dg983_white.mtlx" --table "$sheeting/dg983_white.csv" \
+  --headlamps "$root/examples/headlamps/synthetic_low_beam.ies" --out "$root/out/approach_headlamps"

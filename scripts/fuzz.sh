@@ -11,7 +11,7 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${FUZZ_BUILD_DIR:-$root/build-fuzz}"
 seconds="${FUZZ_SECONDS:-60}"
-targets="${FUZZ_TARGETS:-closure query mtlx alta ra_table study openmaterial}"
+targets="${FUZZ_TARGETS:-closure query mtlx alta ra_table study openmaterial luminaire}"
 jobs="${FUZZ_JOBS:-$(nproc)}"
 
 bash "$root/scripts/setup-debian.sh"

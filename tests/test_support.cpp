@@ -4,6 +4,9 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <limits>
 #include <stdexcept>
 
@@ -171,6 +174,18 @@ CommandRun run_cli(const std::string& args) {
 
 bool contains(const std::string& s, const std::string& part) {
     return s.find(part) != std::string::npos;
+}
+
+std::vector<CorpusFile> fuzz_corpus(const std::string& target) {
+    namespace fs = std::filesystem;
+    std::vector<CorpusFile> out;
+    for (const auto& entry :
+         fs::directory_iterator(fs::path(RP_SOURCE_DIR) / "fuzz" / "corpus" / target)) {
+        std::ifstream in(entry.path(), std::ios::binary);
+        out.push_back({entry.path().string(),
+                       {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()}});
+    }
+    return out;
 }
 
 } // namespace rptest

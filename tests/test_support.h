@@ -56,4 +56,11 @@ CommandRun run_cli(const std::string& args);
 
 bool contains(const std::string& s, const std::string& part);
 
+// The checked-in seeds of a fuzz target (fuzz/corpus/<target>/): each file's path and bytes.
+struct CorpusFile {
+    std::string path;
+    std::vector<std::uint8_t> bytes;
+};
+std::vector<CorpusFile> fuzz_corpus(const std::string& target);
+
 } // namespace rptest

@@ -178,13 +178,9 @@ TEST_CASE("OpenMATERIAL: the reader names the field of every error", "[lidar]") 
 
 TEST_CASE("OpenMATERIAL: the fuzz corpus replays cleanly", "[lidar]") {
     int files = 0;
-    for (const auto& entry :
-         fs::directory_iterator(fs::path(RP_SOURCE_DIR) / "fuzz" / "corpus" / "openmaterial")) {
-        std::ifstream in(entry.path(), std::ios::binary);
-        const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),
-                                              std::istreambuf_iterator<char>());
-        INFO(entry.path().string());
-        CHECK_NOTHROW(rpfuzz::check_openmaterial(bytes.data(), bytes.size()));
+    for (const rptest::CorpusFile& f : rptest::fuzz_corpus("openmaterial")) {
+        INFO(f.path);
+        CHECK_NOTHROW(rpfuzz::check_openmaterial(f.bytes.data(), f.bytes.size()));
         ++files;
     }
     CHECK(files >= 5);
