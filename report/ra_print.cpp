@@ -85,13 +85,13 @@ void print_standard_judgement(const std::string& name, const StandardJudgement& 
                               const std::string& material, std::FILE* out) {
     std::fprintf(out, "R_A [cd lx^-1 m^-2] of %s against the minimums of %s, colour %s\n",
                  material.c_str(), name.c_str(), j.color.c_str());
-    std::fprintf(out, "%6s %9s %9s %9s %10s %10s %8s %6s\n", "line", "observ.", "entrance",
+    std::fprintf(out, "%6s %9s %9s %9s %10s %10s %9s %6s\n", "line", "observ.", "entrance",
                  "rotation", "minimum", "material", "margin", "result");
     size_t passed = 0;
     for (const StandardEntry& s : j.entries) {
         const RaEntry& e = s.entry;
         passed += s.pass ? 1 : 0;
-        std::fprintf(out, "%6d %9g %9g %9s %10.4g %10.4g %+7.0f%% %6s\n", e.line, e.observation_deg,
+        std::fprintf(out, "%6d %9g %9g %9s %10.4g %10.4g %+8.1f%% %6s\n", e.line, e.observation_deg,
                      e.entrance_deg, rotation_text(e).c_str(), e.ra, s.material,
                      100.0 * (s.material / e.ra - 1.0), s.pass ? "pass" : "FAIL");
     }
