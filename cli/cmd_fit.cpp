@@ -12,7 +12,9 @@
 // `retroprism fit --ra TABLE.csv`: fits both to a table of R_A (io/ra_table.h; the fit is
 // analysis/ra_fit.h's) and prints measured, fitted and error per entry; --json prints
 // {"table", "fitted", "params", "log_rms", "max_error", "entries": [...], "mrm": {"params",
-// "log_rms", "max_error"}}; --plot OUT.png R_A against observation angle per entrance angle;
+// "log_rms", "max_error"}} (a coloured table: the colour's rows, and "colors": {NAME:
+// {"retro_color", "log_rms", "max_error"}}); --plot OUT.png R_A against observation angle per
+// entrance angle;
 // --mtlx OUT.mtlx [--name NAME] a MaterialX document of the fitted node naming the table and
 // the fit's errors. --baseline-only fits the baseline alone (the look-dev page of `retroprism
 // view` asks its server for it): --json prints {"table", "mrm": {"params", "log_rms",
@@ -198,23 +200,6 @@ struct RaFitOutputs {
     bool baselineOnly = false;
 };
 
-std::string fitted_value(const Params& p, const std::string& name) {
-    const ParamInfo& info = *find_param(name);
-    switch (info.type) {
-    case ParamType::Float:
-        return plot::fmt("%.6g", *input_field<double>(p, name));
-    case ParamType::Color: {
-        const Color3& c = *input_field<Color3>(p, name);
-        if (c[0] == c[1] && c[1] == c[2]) return plot::fmt("%.6g", c[0]) + " (grey)";
-        return plot::fmt("(%.6g, ", c[0]) + plot::fmt("%.6g, ", c[1]) + plot::fmt("%.6g)", c[2]);
-    }
-    case ParamType::Enum:
-        return enum_values(info).at(size_t(*input_field<int>(p, name)));
-    default:
-        return *input_field<bool>(p, name) ? "true" : "false";
-    }
-}
-
 // The table's entry i as JSON: where it was measured and what it measured.
 json entry_json(const RaEntry& e) {
     return {{"line", e.line},
@@ -295,7 +280,12 @@ int fit_ra_table(const std::string& file, const Params& base, const RaFitOutputs
         plot::write_png(plot::ra_fit_figure(t, nf, mf, text), out.plot);
     }
     if (out.json) {
-        std::printf("%s\n", ra_json(t, nf, mf).dump().c_str());
+        json j = ra_json(t, nf, mf);
+        for (const RaColorFit& c : cf.colors)
+            j["colors"][c.color] = {{"retro_color", c.retro_color},
+                                    {"log_rms", c.report.log_rms},
+                                    {"max_error", c.report.max_error}};
+        std::printf("%s\n", j.dump().c_str());
         return 0;
     }
     std::printf("table: %s (%zu rows), R_A [cd lx^-1 m^-2]\n", t.file.c_str(), t.entries.size());
@@ -311,7 +301,7 @@ int fit_ra_table(const std::string& file, const Params& base, const RaFitOutputs
         std::string m = "-";
         if (n == "roughness") m = plot::fmt("%.6g (GGX)", mf.model.roughness);
         if (n == "ior") m = plot::fmt("%.6g", mf.model.ior);
-        std::printf("%-20s %-26s %-26s\n", n.c_str(), fitted_value(nf.params, n).c_str(),
+        std::printf("%-20s %-26s %-26s\n", n.c_str(), ra_fit_input_text(nf.params, n).c_str(),
                     m.c_str());
     }
     std::printf("%-20s %-26s %-26s\n\n", "specular", "-",

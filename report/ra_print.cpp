@@ -140,4 +140,21 @@ std::vector<std::string> ra_fit_document_comment(const RaMeasurements& t, const 
     return c;
 }
 
+std::string ra_fit_input_text(const Params& p, const std::string& name) {
+    const ParamInfo& info = *find_param(name);
+    switch (info.type) {
+    case ParamType::Float:
+        return plot::fmt("%.6g", *input_field<double>(p, name));
+    case ParamType::Color: {
+        const Color3& c = *input_field<Color3>(p, name);
+        if (c[0] == c[1] && c[1] == c[2]) return plot::fmt("%.6g", c[0]) + " (grey)";
+        return plot::fmt("(%.6g, ", c[0]) + plot::fmt("%.6g, ", c[1]) + plot::fmt("%.6g)", c[2]);
+    }
+    case ParamType::Enum:
+        return enum_values(info).at(size_t(*input_field<int>(p, name)));
+    default:
+        return *input_field<bool>(p, name) ? "true" : "false";
+    }
+}
+
 } // namespace retroprism

@@ -40,6 +40,10 @@ void print_standard_judgement(const std::string& name, const StandardJudgement& 
 // white and the one fitted: their luminance) and the fit of its rows.
 void print_ra_color_fits(const std::vector<RaColorFit>& colors, std::FILE* out);
 
+// A fitted input's value as fit --ra prints it: a float to 6 digits, a colour as "V (grey)" or
+// "(R, G, B)", an enum by its name, a boolean as true or false.
+std::string ra_fit_input_text(const Params& p, const std::string& name);
+
 // The comment of the MaterialX document `fit --ra --mtlx` writes: the table's name and
 // comments, the fitted inputs, and the node's fit and error at every entry and the baseline's.
 std::vector<std::string> ra_fit_document_comment(const RaMeasurements& t, const RaNodeFit& nf,

@@ -1514,6 +1514,21 @@ TEST_CASE("fit --ra on a coloured table: the geometry from the white rows, each 
         CHECK(contains(e.what(), "synthetic.csv: no rows of colour red; the table's colours: "
                                  "white, yellow"));
     }
+    // The command: the chosen colour's rows and material, every colour's retro_color.
+    const std::string astm = source("examples/standards/astm-d4956-ii.csv");
+    Run r =
+        cli("fit --ra " + astm + " --material " + source("examples/materials/yellow_sign.json") +
+            " --color yellow --hold cant_angle,dihedral_error,dihedral_spread --json");
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+    const json j = json::parse(r.output.substr(r.output.find('{')));
+    CHECK(j["entries"].size() == 4);
+    CHECK(j["colors"].size() == 7);
+    CHECK(j["params"]["retro_color"] == j["colors"]["yellow"]["retro_color"]);
+    Run bad = cli("fit --ra " + astm + " --color purple");
+    CHECK(bad.status != 0);
+    CHECK(contains(bad.output, "astm-d4956-ii.csv: no rows of colour purple; the table's "
+                               "colours: white, yellow, orange"));
 }
 
 TEST_CASE("ALTA file without #PARAM_OUT: read as BRDF x cos(theta_v) with a warning, or as "
