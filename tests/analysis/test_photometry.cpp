@@ -1385,7 +1385,8 @@ TEST_CASE("R_A table reader: colours and the kind of table", "[photometry]") {
 TEST_CASE("ra --standard: the bundled tables, a material judged per entry of its colour",
           "[photometry]") {
     const std::vector<std::string> names = standard_names();
-    for (const char* n : {"astm-d4956-i", "astm-d4956-ii", "iso-20471", "ansi-isea-107-level2"})
+    for (const char* n : {"astm-d4956-i", "astm-d4956-ii", "iso-20471", "ansi-isea-107-level2",
+                          "at-stvzvo-1998-type1", "at-stvzvo-1998-type2"})
         CHECK(std::count(names.begin(), names.end(), n) == 1);
     // Every bundled table is a table of minimums that cites its source.
     for (const std::string& n : names) {
