@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <functional>
 #include <limits>
+#include <stdexcept>
 
 #include "error.h"
 #include "minimize.h"
@@ -125,6 +126,45 @@ void node_search_space(Params& p, const std::vector<std::string>& held, std::vec
     }
 }
 
+// The fitted range of retro_color (its RP_FIT line).
+const FitInfo& retro_color_fit() {
+    for (const FitInfo& f : fit_table())
+        if (std::string(f.param->name) == "retro_color") return f;
+    throw std::logic_error("the parameter table fits no retro_color");
+}
+
+// retro_color = s chroma with s such that the mean of ln(model / measured) over `rows` is 0,
+// each channel kept in the fitted range and rounded to 6 digits (ra_fit.h, step 2).
+Color3 scaled_retro_color(Params p, const Color3& chroma, const RaMeasurements& rows) {
+    const FitInfo& range = retro_color_fit();
+    double s = luminance_709(glm::dvec3(p.retro_color[0], p.retro_color[1], p.retro_color[2]));
+    auto set = [&](double scale) {
+        for (int c = 0; c < 3; ++c)
+            p.retro_color[size_t(c)] =
+                round6(std::clamp(scale * chroma[size_t(c)], range.lo, range.hi));
+    };
+    for (int iteration = 0; iteration < 30; ++iteration) {
+        set(s);
+        const std::vector<double> model = ra_node_values(p, rows.entries);
+        double mean = 0;
+        for (size_t i = 0; i < model.size(); ++i)
+            mean += std::log(std::max(model[i], 1e-300) / rows.entries[i].ra);
+        mean /= double(model.size());
+        s *= std::exp(-mean);
+        if (std::abs(mean) < 1e-9) break;
+    }
+    set(s);
+    return p.retro_color;
+}
+
+// chroma_C of ra_fit.h's step 2: the base's hue at luminance 1 when `hue`, else (1, 1, 1).
+Color3 color_chroma(bool hue, const Params& base) {
+    const glm::dvec3 c(base.retro_color[0], base.retro_color[1], base.retro_color[2]);
+    const double y = luminance_709(c);
+    if (!hue || !(y > 0)) return {1.0, 1.0, 1.0};
+    return {c.x / y, c.y / y, c.z / y};
+}
+
 } // namespace
 
 std::vector<double> ra_node_values(const Params& material, const std::vector<RaEntry>& entries) {
@@ -214,6 +254,36 @@ RaMrmFit fit_ra_mrm(const RaMeasurements& t) {
     fit.evaluations = r.evaluations;
     fit.report = ra_fit_report(t, ra_mrm_values(m, t.entries));
     return fit;
+}
+
+RaColoredFit fit_ra_colors(const RaMeasurements& t, const Params& base,
+                           const std::vector<std::string>& held, const std::string& color) {
+    RaColoredFit out;
+    const std::vector<std::string> colors = ra_table_colors(t);
+    if (colors.empty()) {
+        if (!color.empty()) ra_color_rows(t, color); // throws: the table has no colours
+        out.fit = fit_ra_node(t, base, held);
+        out.rows = t;
+        return out;
+    }
+    const bool hasWhite = std::find(colors.begin(), colors.end(), "white") != colors.end();
+    const std::string reference = hasWhite ? "white" : colors.front();
+    const std::string chosen = color.empty() ? reference : color;
+    out.rows = ra_color_rows(t, chosen);
+    out.fit = fit_ra_node(ra_color_rows(t, reference), base, held);
+    for (const std::string& c : colors) {
+        const RaMeasurements rows = ra_color_rows(t, c);
+        Params p = out.fit.params;
+        const bool hue = c == chosen && c != "white";
+        p.retro_color = scaled_retro_color(p, color_chroma(hue, base), rows);
+        out.colors.push_back(
+            {c, p.retro_color, hue, ra_fit_report(rows, ra_node_values(p, rows.entries))});
+        if (c == chosen) {
+            out.fit.params = p;
+            out.fit.report = out.colors.back().report;
+        }
+    }
+    return out;
 }
 
 } // namespace retroprism

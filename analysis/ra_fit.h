@@ -21,6 +21,19 @@
 //    relative. The fitted values are then rounded to 6 significant digits and
 //    the report is that of the rounded values, so that a document written from them gives R_A
 //    exactly as reported.
+//  - Coloured tables (rows with a `color`, io/ra_table.h; fit_ra_colors): R_A is a luminance,
+//    so a table fixes each colour's luminance but not its chromaticity, which comes from the
+//    base material. (1) The node is fitted as above to the reference rows: the white rows, or
+//    without white rows those of the table's first colour. (2) Per colour C of the table, that
+//    geometry is kept and retro_color = s_C chroma_C, where chroma_C is the base's retro_color
+//    divided by its luminance Y for the colour returned (the hue the caller gives, e.g.
+//    `--material yellow_sign.json --color yellow`; a grey base gives a grey retro_color) and
+//    (1, 1, 1) for white and every other colour (their luminance only); s_C makes the mean
+//    of ln(model / measured) over C's rows zero (iterations s <- s exp(-mean), R_A being
+//    proportional to retro_color but for the specular and diffuse parts), each channel kept in
+//    retro_color's fitted range and rounded to 6 significant digits. (3) The result is the
+//    material of one colour (default: white if the table has white rows, else its first
+//    colour), reported over that colour's rows, with every colour's retro_color and errors.
 #pragma once
 
 #include <string>
@@ -65,5 +78,26 @@ RaFitReport ra_fit_report(const RaMeasurements& t, const std::vector<double>& mo
 RaNodeFit fit_ra_node(const RaMeasurements& t, const Params& base = Params(),
                       const std::vector<std::string>& held = {});
 RaMrmFit fit_ra_mrm(const RaMeasurements& t);
+
+struct RaColorFit {
+    std::string color;  // one of ra_colors()
+    Color3 retro_color; // s_C chroma_C, see the top of this header
+    bool hue = false;   // chroma_C is the base's hue (the colour returned, not white)
+    RaFitReport report; // over the colour's rows
+};
+
+struct RaColoredFit {
+    RaNodeFit fit;                  // the material of `color`, reported over `rows`
+    RaMeasurements rows;            // the table's rows of that colour (the whole table without
+                                    // colours)
+    std::vector<RaColorFit> colors; // every colour of the table, in table order (none without)
+};
+
+// A table without colours: fit_ra_node's fit of the whole table. With colours: the steps at the
+// top of this header; `color` names the material returned (empty: the default), InputError
+// "FILE: no rows of colour C; the table's colours: ..." for a colour the table has not.
+RaColoredFit fit_ra_colors(const RaMeasurements& t, const Params& base = Params(),
+                           const std::vector<std::string>& held = {},
+                           const std::string& color = "");
 
 } // namespace retroprism

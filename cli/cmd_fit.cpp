@@ -12,7 +12,9 @@
 // `retroprism fit --ra TABLE.csv`: fits both to a table of R_A (io/ra_table.h; the fit is
 // analysis/ra_fit.h's) and prints measured, fitted and error per entry; --json prints
 // {"table", "fitted", "params", "log_rms", "max_error", "entries": [...], "mrm": {"params",
-// "log_rms", "max_error"}}; --plot OUT.png R_A against observation angle per entrance angle;
+// "log_rms", "max_error"}} (a coloured table: the colour's rows, and "colors": {NAME:
+// {"retro_color", "log_rms", "max_error"}}); --plot OUT.png R_A against observation angle per
+// entrance angle;
 // --mtlx OUT.mtlx [--name NAME] a MaterialX document of the fitted node naming the table and
 // the fit's errors. --baseline-only fits the baseline alone (the look-dev page of `retroprism
 // view` asks its server for it): --json prints {"table", "mrm": {"params", "log_rms",
@@ -192,56 +194,11 @@ void print_report(const FitData& d, const AltaData& alta, const FitOptions& o, c
 // fit --ra
 
 struct RaFitOutputs {
-    std::string plot, mtlx, name;
+    std::string plot, mtlx, name, color;
     std::vector<std::string> held; // --hold: fittable inputs kept at the base material's value
     bool json = false;
     bool baselineOnly = false;
 };
-
-std::string fitted_value(const Params& p, const std::string& name) {
-    const ParamInfo& info = *find_param(name);
-    switch (info.type) {
-    case ParamType::Float:
-        return plot::fmt("%.6g", *input_field<double>(p, name));
-    case ParamType::Color:
-        return plot::fmt("%.6g", (*input_field<Color3>(p, name))[0]) + " (grey)";
-    case ParamType::Enum:
-        return enum_values(info).at(size_t(*input_field<int>(p, name)));
-    default:
-        return *input_field<bool>(p, name) ? "true" : "false";
-    }
-}
-
-std::vector<std::string> document_comment(const RaMeasurements& t, const RaNodeFit& nf,
-                                          const RaMrmFit& mf) {
-    std::vector<std::string> c = {"The prismatic retroreflector node fitted by retroprism fit to "
-                                  "the R_A table " +
-                                  fs::path(t.file).filename().string() + ":"};
-    for (const std::string& line : t.comments)
-        c.push_back("  " + line);
-    std::string fitted;
-    for (const std::string& n : nf.fitted)
-        fitted += (fitted.empty() ? "" : ", ") + n;
-    c.push_back("Fitted inputs: " + fitted + "; the others are the base material's.");
-    c.push_back(plot::fmt("Fit: RMS of ln(fitted / measured) %.4f", nf.report.log_rms) +
-                plot::fmt(", largest error %.1f%%", 100 * nf.report.max_error) + " over " +
-                std::to_string(t.entries.size()) + " rows (R_A in cd lx^-1 m^-2):");
-    for (size_t i = 0; i < t.entries.size(); ++i) {
-        const RaEntry& e = t.entries[i];
-        c.push_back(
-            plot::fmt("  observation %g deg", e.observation_deg) +
-            plot::fmt(", entrance %g deg", e.entrance_deg) +
-            (e.rotation_deg ? plot::fmt(", rotation %g deg", *e.rotation_deg) : "") +
-            (e.presentation_deg != 0 ? plot::fmt(", presentation %g", e.presentation_deg) : "") +
-            plot::fmt(": measured %g", e.ra) + plot::fmt(", fitted %.4g", nf.report.model[i]) +
-            plot::fmt(" (%+.1f%%)", 100 * nf.report.error[i]));
-    }
-    c.push_back(plot::fmt("The MaterialX-style retroreflective GGX fitted to the same table: RMS "
-                          "of ln %.4f",
-                          mf.report.log_rms) +
-                plot::fmt(", largest error %.1f%%.", 100 * mf.report.max_error));
-    return c;
-}
 
 // The table's entry i as JSON: where it was measured and what it measured.
 json entry_json(const RaEntry& e) {
@@ -310,19 +267,25 @@ int fit_ra_baseline(const std::string& file, bool asJson) {
 int fit_ra_table(const std::string& file, const Params& base, const RaFitOutputs& out) {
     if (out.baselineOnly) return fit_ra_baseline(file, out.json);
     const auto t0 = std::chrono::steady_clock::now();
-    const RaMeasurements t = read_ra_table(file);
-    const RaNodeFit nf = fit_ra_node(t, base, out.held);
+    const RaColoredFit cf = fit_ra_colors(read_ra_table(file), base, out.held, out.color);
+    const RaMeasurements& t = cf.rows; // a coloured table: the rows of the colour fitted
+    const RaNodeFit& nf = cf.fit;
     const RaMrmFit mf = fit_ra_mrm(t);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (!out.mtlx.empty())
-        write_mtlx(out.mtlx, {{out.name, nf.params}}, document_comment(t, nf, mf));
+        write_mtlx(out.mtlx, {{out.name, nf.params}}, ra_fit_document_comment(t, nf, mf));
     if (!out.plot.empty()) {
         plot::Text text("retroprism fit");
         plot::write_png(plot::ra_fit_figure(t, nf, mf, text), out.plot);
     }
     if (out.json) {
-        std::printf("%s\n", ra_json(t, nf, mf).dump().c_str());
+        json j = ra_json(t, nf, mf);
+        for (const RaColorFit& c : cf.colors)
+            j["colors"][c.color] = {{"retro_color", c.retro_color},
+                                    {"log_rms", c.report.log_rms},
+                                    {"max_error", c.report.max_error}};
+        std::printf("%s\n", j.dump().c_str());
         return 0;
     }
     std::printf("table: %s (%zu rows), R_A [cd lx^-1 m^-2]\n", t.file.c_str(), t.entries.size());
@@ -338,12 +301,13 @@ int fit_ra_table(const std::string& file, const Params& base, const RaFitOutputs
         std::string m = "-";
         if (n == "roughness") m = plot::fmt("%.6g (GGX)", mf.model.roughness);
         if (n == "ior") m = plot::fmt("%.6g", mf.model.ior);
-        std::printf("%-20s %-26s %-26s\n", n.c_str(), fitted_value(nf.params, n).c_str(),
+        std::printf("%-20s %-26s %-26s\n", n.c_str(), ra_fit_input_text(nf.params, n).c_str(),
                     m.c_str());
     }
     std::printf("%-20s %-26s %-26s\n\n", "specular", "-",
                 plot::fmt("%.6g", mf.model.specular).c_str());
     print_ra_comparison(t, {{"node", nf.report.model}, {"mrm", mf.report.model}}, stdout);
+    print_ra_color_fits(cf.colors, stdout);
     std::printf("\nruntime %.1f s (%d + %d evaluations of the table)\n", seconds, nf.evaluations,
                 mf.evaluations);
     if (!out.mtlx.empty())
@@ -373,12 +337,15 @@ int cmd_fit(int argc, const char** argv) {
           "ISOTROPIC_TL_TV_PROJ_DPHI), weighting peaks and floor alike in log space, with the "
           "instrument's angular resolution as a Gaussian blur. With --ra, fits the inputs the "
           "parameter table declares fittable, and the baseline, to a table of R_A (CSV: "
-          "observation_deg, entrance_deg, ra, optional rotation_deg and presentation_deg) in "
-          "log space")
+          "observation_deg, entrance_deg, ra, optional rotation_deg, presentation_deg and color) "
+          "in "
+          "log space; a coloured table's geometry on its white rows, each colour's retro_color "
+          "on its rows, with the hue of --material")
         .usage("retroprism fit DATA.dat [--json] [--plot OUT.png] [--resolution FWHM_DEG] [--ior "
                "ETA] [--paper-geometry] [--param-out NAME]\n       retroprism fit --ra TABLE.csv "
                "[--json] [--plot "
-               "OUT.png] [--mtlx OUT.mtlx [--name NAME]] [--material BASE.json] [--hold NAME,...]\n"
+               "OUT.png] [--mtlx OUT.mtlx [--name NAME]] [--material BASE.json] [--hold NAME,...] "
+               "[--color NAME]\n"
                "       retroprism "
                "fit "
                "--ra TABLE.csv --baseline-only [--json]");
@@ -413,6 +380,9 @@ int cmd_fit(int argc, const char** argv) {
     ap.arg("--hold NAMES")
         .help("--ra: fittable inputs (comma-separated) kept at the base material's value instead "
               "of fitted");
+    ap.arg("--color NAME")
+        .help("--ra, a table with a color column: the colour of the material written and "
+              "reported (default: white, or the table's first colour)");
     ap.arg("--baseline-only")
         .help("--ra: fit only the MaterialX-style GGX baseline (with --json: {\"table\", "
               "\"mrm\": {\"params\", \"log_rms\", \"max_error\", \"entries\"}})")
@@ -436,7 +406,7 @@ int cmd_fit(int argc, const char** argv) {
         out.json = ap["json"].get<int>() != 0;
         out.baselineOnly = ap["baseline-only"].get<int>() != 0;
         if (out.baselineOnly)
-            for (const char* option : {"plot", "mtlx", "name", "material", "hold"})
+            for (const char* option : {"plot", "mtlx", "name", "material", "hold", "color"})
                 if (!ap[option].get<std::string>().empty())
                     throw InputError(std::string("--") + option +
                                      " goes with the node's fit, not --baseline-only");
@@ -447,6 +417,7 @@ int cmd_fit(int argc, const char** argv) {
         }
         out.mtlx = ap["mtlx"].get<std::string>();
         out.name = ap["name"].get<std::string>();
+        out.color = ap["color"].get<std::string>();
         require_folder("--mtlx", out.mtlx);
         if (out.name.empty()) out.name = fs::path(out.mtlx).stem().string();
         if (!out.mtlx.empty()) mtlx_document({{out.name, Params()}}, {}); // checks the name
@@ -454,7 +425,7 @@ int cmd_fit(int argc, const char** argv) {
         return fit_ra_table(raFile,
                             base.empty() ? Params() : params_from_json(read_json(base), base), out);
     }
-    for (const char* option : {"mtlx", "name", "material", "hold"})
+    for (const char* option : {"mtlx", "name", "material", "hold", "color"})
         if (!ap[option].get<std::string>().empty())
             throw InputError(std::string("--") + option + " goes with --ra TABLE.csv");
     if (ap["baseline-only"].get<int>())

@@ -4,7 +4,7 @@
 // degrees at one rotation angle epsilon. R_A = f cos(theta_i) cos(theta_o) in cd lx^-1 m^-2
 // (MODEL.md section 5); the angle conventions are written in photometry.h. With --table
 // TABLE.csv (io/ra_table.h), the material's R_A at the table's entries against the measured
-// values instead.
+// values instead; with --standard NAME, against a bundled standard's minimums (standards.h).
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -19,6 +19,7 @@
 #include "ra_fit.h"
 #include "ra_print.h"
 #include "ra_table.h"
+#include "standards.h"
 
 namespace retroprism {
 
@@ -32,7 +33,8 @@ int cmd_ra(int argc, const char** argv) {
              "to the observation axis in the same plane, the observer keeping its side of the "
              "source; rotation epsilon turns the sample about its normal)")
         .usage("retroprism ra [--material FILE.json | --document DOC.mtlx [--name NAME]] "
-               "[--rotation DEG] [--wavelength NM] [--csv] [--rgb] [--table TABLE.csv]");
+               "[--rotation DEG] [--wavelength NM] [--csv] [--rgb] [--table TABLE.csv | "
+               "--standard NAME [--color NAME]]");
     ap.arg("--material FILE").help("node inputs as a JSON object (default: all defaults)");
     ap.arg("--document FILE").help("a MaterialX document (.mtlx) instead of --material");
     ap.arg("--name NAME").help("the material of the document (default: its first)");
@@ -48,8 +50,19 @@ int cmd_ra(int argc, const char** argv) {
     ap.arg("--table FILE")
         .help("R_A at the entries of a measured table (CSV, as fit --ra reads it): measured, "
               "the material's and the error per entry");
+    ap.arg("--standard NAME")
+        .help("the material against a bundled standard's minimum R_A (NAME: one of `--standard "
+              "list`): per entry of its colour the minimum, the material's R_A and pass or FAIL");
+    ap.arg("--color NAME").help("--standard: the material's sheeting colour (default white)");
     int status = 0;
     if (!parse_command_args(ap, argc, argv, status)) return status;
+    const std::string standard = ap["standard"].get<std::string>();
+    const std::string color = ap["color"].get<std::string>();
+    if (standard == "list") {
+        print_standard_list(stdout);
+        return 0;
+    }
+    if (!color.empty() && standard.empty()) throw InputError("--color goes with --standard NAME");
 
     const std::string json = ap["material"].get<std::string>();
     const std::string doc = ap["document"].get<std::string>();
@@ -77,6 +90,13 @@ int cmd_ra(int argc, const char** argv) {
         label += " at " + nm + " nm";
     }
     const std::string tableFile = ap["table"].get<std::string>();
+    if (!standard.empty()) {
+        if (!tableFile.empty()) throw InputError("give either --table or --standard, not both");
+        const StandardJudgement j =
+            judge_standard(read_standard(standard), p, color.empty() ? "white" : color);
+        print_standard_judgement(standard, j, label, stdout);
+        return 0;
+    }
     if (!tableFile.empty()) {
         const RaMeasurements m = read_ra_table(tableFile);
         std::printf("R_A [cd lx^-1 m^-2] of %s at the entries of %s\n", label.c_str(),

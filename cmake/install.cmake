@@ -14,8 +14,9 @@
 #                                (<exe>/../share/retroprism): the MaterialX library, examples and
 #                                tool (with its lockfile and node_modules), the accuracy study's
 #                                results and template, the example materials, documents, R_A
-#                                tables and the consumer project, the generated GLSL variants,
-#                                the OSL shaders (osl/shaders) and the opt-in MaterialX library
+#                                tables, the standards' minimum R_A tables (examples/standards)
+#                                and the consumer project, the generated GLSL variants, the OSL
+#                                shaders (osl/shaders) and the opt-in MaterialX library
 #                                of the OSL closure (materialx/rp_pbrlib_closure)
 #   lib/python3.X/site-packages/ the Python module (python/CMakeLists.txt)
 # The CMake package and the pkg-config files locate the prefix from their own folder, so an
@@ -66,8 +67,8 @@ install(FILES ${PROJECT_SOURCE_DIR}/docs/accuracy/results.csv
         DESTINATION ${RP_DATA_DEST}/docs/accuracy)
 install(FILES ${PROJECT_SOURCE_DIR}/docs/accuracy.md.in DESTINATION ${RP_DATA_DEST}/docs)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/examples/materials ${PROJECT_SOURCE_DIR}/examples/documents
-                  ${PROJECT_SOURCE_DIR}/examples/sheeting ${PROJECT_SOURCE_DIR}/examples/consumer
-                  ${PROJECT_SOURCE_DIR}/examples/headlamps
+                  ${PROJECT_SOURCE_DIR}/examples/sheeting ${PROJECT_SOURCE_DIR}/examples/standards
+                  ${PROJECT_SOURCE_DIR}/examples/consumer ${PROJECT_SOURCE_DIR}/examples/headlamps
         DESTINATION ${RP_DATA_DEST}/examples)
 install(DIRECTORY ${RP_GENERATED_DIR}/glsl/ DESTINATION ${RP_DATA_DEST}/glsl)
 # The look-dev page `retroprism view` serves (its static files) and its server, serve.py.

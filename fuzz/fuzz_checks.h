@@ -23,10 +23,12 @@
 //  - alta: the bytes are an ALTA file; parse_alta either returns samples within the
 //    documented ranges or throws an InputError naming the file;
 //  - ra_table: the bytes are an R_A table (CSV); parse_ra_table either returns entries within
-//    the documented ranges, at least one, no two with the same angles, or throws an InputError
-//    naming the file and a line.
+//    the documented ranges, each colour empty or one of ra_colors() (all empty or none), at
+//    least one, no two with the same angles and colour, or throws an InputError naming the file
+//    and a line.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -557,10 +559,15 @@ inline void check_ra_table(const std::uint8_t* data, size_t size) {
             !(e.presentation_deg >= -180 && e.presentation_deg <= 180) ||
             (e.rotation_deg && !(*e.rotation_deg >= -360 && *e.rotation_deg <= 360)))
             throw Violation(at + ": an entry outside the documented ranges passed the reader");
+        const std::vector<std::string>& colors = retroprism::ra_colors();
+        if (e.color.empty() != t.entries[0].color.empty() ||
+            (!e.color.empty() && std::find(colors.begin(), colors.end(), e.color) == colors.end()))
+            throw Violation(at + ": colour \"" + e.color + "\" passed the reader");
         for (size_t k = 0; k < i; ++k) {
             const retroprism::RaEntry& p = t.entries[k];
             if (p.observation_deg == e.observation_deg && p.entrance_deg == e.entrance_deg &&
-                p.rotation_deg == e.rotation_deg && p.presentation_deg == e.presentation_deg)
+                p.rotation_deg == e.rotation_deg && p.presentation_deg == e.presentation_deg &&
+                p.color == e.color)
                 throw Violation(at + ": a duplicate of line " + std::to_string(p.line) +
                                 " passed the reader");
         }

@@ -11,7 +11,7 @@ namespace retroprism {
 
 namespace {
 
-enum Column { kObservation, kEntrance, kRa, kRotation, kPresentation, kColumnCount };
+enum Column { kObservation, kEntrance, kRa, kRotation, kPresentation, kColor, kColumnCount };
 
 struct Range {
     double lo, hi;
@@ -19,8 +19,8 @@ struct Range {
     const char* what;
 };
 
-// The allowed values per column (in ra_columns() order).
-const Range kRanges[kColumnCount] = {
+// The allowed values per numeric column (in ra_columns() order; the colour is a name).
+const Range kRanges[kColor] = {
     {0.0, 5.0, true, false, "an observation angle in (0, 5] degrees"},
     {-90.0, 90.0, true, true, "an entrance angle in (-90, 90) degrees"},
     {0.0, 1e300, true, false, "an R_A in cd lx^-1 m^-2 greater than 0"},
@@ -28,7 +28,8 @@ const Range kRanges[kColumnCount] = {
     {-180.0, 180.0, false, false, "a presentation angle in [-180, 180] degrees"},
 };
 
-const char* const kForm = "observation_deg,entrance_deg,ra[,rotation_deg][,presentation_deg]";
+const char* const kForm =
+    "observation_deg,entrance_deg,ra[,rotation_deg][,presentation_deg][,color]";
 
 std::vector<std::string> split_fields(const std::string& line) {
     std::vector<std::string> out;
@@ -67,8 +68,16 @@ std::vector<int> header_columns(const std::vector<std::string>& fields, const st
     return cols;
 }
 
+std::string list_text(const std::vector<std::string>& names) {
+    std::string s;
+    for (const std::string& n : names)
+        s += (s.empty() ? "" : ", ") + n;
+    return s;
+}
+
 std::string key_text(const RaEntry& e) {
     std::ostringstream ss;
+    if (!e.color.empty()) ss << "colour " << e.color << ", ";
     ss << "observation " << e.observation_deg << ", entrance " << e.entrance_deg << ", rotation "
        << (e.rotation_deg ? std::to_string(*e.rotation_deg) : std::string("mean of 0 and 90"))
        << ", presentation " << e.presentation_deg;
@@ -77,7 +86,32 @@ std::string key_text(const RaEntry& e) {
 
 bool same_angles(const RaEntry& a, const RaEntry& b) {
     return a.observation_deg == b.observation_deg && a.entrance_deg == b.entrance_deg &&
-           a.rotation_deg == b.rotation_deg && a.presentation_deg == b.presentation_deg;
+           a.rotation_deg == b.rotation_deg && a.presentation_deg == b.presentation_deg &&
+           a.color == b.color;
+}
+
+std::string color_field(const std::string& field, const std::string& where) {
+    const std::vector<std::string>& colors = ra_colors();
+    if (std::find(colors.begin(), colors.end(), field) == colors.end())
+        throw InputError(where + ": \"" + field + "\" is not a sheeting colour; expected one of " +
+                         list_text(colors));
+    return field;
+}
+
+// A `# kind: VALUE` comment line: sets t.kind (once per file).
+void kind_directive(const std::string& comment, RaMeasurements& t, bool& seen,
+                    const std::string& at) {
+    if (comment.compare(0, 5, "kind:") != 0) return;
+    const std::string value = trim(comment.substr(5));
+    if (seen) throw InputError(at + ": a second \"# kind:\" line; expected at most one per file");
+    seen = true;
+    if (value == "measured")
+        t.kind = RaKind::Measured;
+    else if (value == "minimum")
+        t.kind = RaKind::Minimum;
+    else
+        throw InputError(at + ": \"# kind: " + value +
+                         "\" is not a kind of table; expected measured or minimum");
 }
 
 RaEntry parse_row(const std::vector<std::string>& fields, const std::vector<int>& cols,
@@ -93,6 +127,10 @@ RaEntry parse_row(const std::vector<std::string>& fields, const std::vector<int>
         const std::string where =
             at + ", column " + std::to_string(k + 1) + " (" + names[size_t(c)] + ")";
         if (fields[k].empty() && c == kRotation) continue; // the mean over 0 and 90 degrees
+        if (c == kColor) {
+            e.color = color_field(fields[k], where);
+            continue;
+        }
         const std::optional<double> v = try_parse_number(fields[k]);
         if (!v)
             throw InputError(where + ": \"" + fields[k] + "\" is not a number; expected " +
@@ -124,9 +162,46 @@ RaEntry parse_row(const std::vector<std::string>& fields, const std::vector<int>
 } // namespace
 
 const std::vector<std::string>& ra_columns() {
-    static const std::vector<std::string> v = {"observation_deg", "entrance_deg", "ra",
-                                               "rotation_deg", "presentation_deg"};
+    static const std::vector<std::string> v = {"observation_deg", "entrance_deg",     "ra",
+                                               "rotation_deg",    "presentation_deg", "color"};
     return v;
+}
+
+const std::vector<std::string>& ra_colors() {
+    static const std::vector<std::string> v = {"white",
+                                               "yellow",
+                                               "orange",
+                                               "green",
+                                               "red",
+                                               "blue",
+                                               "brown",
+                                               "grey",
+                                               "fluorescent_yellow",
+                                               "fluorescent_yellow_green",
+                                               "fluorescent_orange",
+                                               "fluorescent_red",
+                                               "fluorescent_pink"};
+    return v;
+}
+
+std::vector<std::string> ra_table_colors(const RaMeasurements& t) {
+    std::vector<std::string> out;
+    for (const RaEntry& e : t.entries)
+        if (!e.color.empty() && std::find(out.begin(), out.end(), e.color) == out.end())
+            out.push_back(e.color);
+    return out;
+}
+
+RaMeasurements ra_color_rows(const RaMeasurements& t, const std::string& color) {
+    RaMeasurements out = t;
+    out.entries.clear();
+    for (const RaEntry& e : t.entries)
+        if (e.color == color) out.entries.push_back(e);
+    if (out.entries.empty())
+        throw InputError(t.file + ": no rows of colour " + color + "; the table's colours: " +
+                         (ra_table_colors(t).empty() ? std::string("none (no color column)")
+                                                     : list_text(ra_table_colors(t))));
+    return out;
 }
 
 RaMeasurements parse_ra_table(std::istream& in, const std::string& name) {
@@ -135,6 +210,7 @@ RaMeasurements parse_ra_table(std::istream& in, const std::string& name) {
     std::vector<int> cols;
     std::string raw;
     int lineNo = 0;
+    bool kindSeen = false;
     while (std::getline(in, raw)) {
         ++lineNo;
         const std::string at = name + ":" + std::to_string(lineNo);
@@ -143,6 +219,7 @@ RaMeasurements parse_ra_table(std::istream& in, const std::string& name) {
         if (line.empty()) continue;
         if (line[0] == '#') {
             t.comments.push_back(trim(line.substr(1)));
+            kind_directive(t.comments.back(), t, kindSeen, at);
             continue;
         }
         const std::vector<std::string> fields = split_fields(line);

@@ -35,6 +35,7 @@
 #include "query.h"
 #include "ra_fit.h"
 #include "ra_table.h"
+#include "standards.h"
 #include "test_support.h"
 
 using namespace retroprism;
@@ -1034,6 +1035,20 @@ RaMeasurements table_of(const std::string& text, const std::string& name = "t.cs
     return parse_ra_table(in, name);
 }
 
+// Each case's text (`.text`) read as a table fails with an error containing `.expect`.
+template <class Case>
+void check_table_errors(const std::vector<Case>& cases) {
+    for (const Case& c : cases) {
+        INFO(c.text);
+        try {
+            table_of(c.text);
+            FAIL("no error");
+        } catch (const InputError& e) {
+            CHECK(contains(e.what(), c.expect));
+        }
+    }
+}
+
 // R_A of `truth` at observation x entrance angles (rows without rotation: the mean over 0 and
 // 90 degrees), as a table.
 RaMeasurements synthetic_table(const Params& truth, const std::vector<double>& observation,
@@ -1118,15 +1133,7 @@ TEST_CASE("R_A table reader: errors name file:line, the column and the expected 
         {"# only comments\n", "t.csv:1: no header row; expected a header row"},
         {head, "t.csv:1: no rows; expected one row per measurement"},
     };
-    for (const Case& c : cases) {
-        INFO(c.text);
-        try {
-            table_of(c.text);
-            FAIL("no error");
-        } catch (const InputError& e) {
-            CHECK(contains(e.what(), c.expect));
-        }
-    }
+    check_table_errors(cases);
     // Rows at the same angles but another rotation are different measurements.
     CHECK(table_of("observation_deg,entrance_deg,ra,rotation_deg\n0.2,-4,8,0\n0.2,-4,7,90\n"
                    "0.2,-4,7.5,\n")
@@ -1357,6 +1364,208 @@ TEST_CASE("fit --ra on the DG983 preset: JSON, plot and a document that ra --doc
     CHECK(contains(bad.output, "bad.csv:3, column 1 (observation_deg): 9 is out of range"));
     CHECK_FALSE(fs::exists(dir / "bad.mtlx"));
     fs::remove_all(dir);
+}
+
+TEST_CASE("R_A table reader: colours and the kind of table", "[photometry]") {
+    const RaMeasurements t = table_of("# kind: minimum\nobservation_deg,entrance_deg,color,ra\n"
+                                      "0.2,-4,white,70\n0.2,-4,yellow,50\n0.5,30,yellow,13\n");
+    CHECK(t.kind == RaKind::Minimum);
+    REQUIRE(t.entries.size() == 3);
+    CHECK(t.entries[0].color == "white");
+    CHECK(t.entries[1].color == "yellow");
+    CHECK(ra_table_colors(t) == std::vector<std::string>{"white", "yellow"});
+    const RaMeasurements yellow = ra_color_rows(t, "yellow");
+    REQUIRE(yellow.entries.size() == 2);
+    CHECK(yellow.entries[1].line == 5);
+    CHECK(yellow.kind == RaKind::Minimum);
+    // Every existing table reads as before: measured, no colour.
+    const RaMeasurements dg = read_ra_table(source("examples/sheeting/dg983_white.csv"));
+    CHECK(dg.kind == RaKind::Measured);
+    CHECK(ra_table_colors(dg).empty());
+    CHECK(table_of("# kind: measured\nobservation_deg,entrance_deg,ra\n0.2,-4,8\n").kind ==
+          RaKind::Measured);
+    const std::string head = "observation_deg,entrance_deg,color,ra\n";
+    const std::string allowed = "expected one of " + [] {
+        std::string s;
+        for (const std::string& c : ra_colors())
+            s += (s.empty() ? "" : ", ") + c;
+        return s;
+    }();
+    struct Case {
+        std::string text, expect;
+    };
+    const std::vector<Case> cases = {
+        {head + "0.2,-4,purple,5\n",
+         "t.csv:2, column 3 (color): \"purple\" is not a sheeting colour; " + allowed},
+        {head + "0.2,-4,,5\n", "t.csv:2, column 3 (color): \"\" is not a sheeting colour"},
+        {head + "0.2,-4,White,5\n", "t.csv:2, column 3 (color): \"White\" is not a sheeting"},
+        {head + "0.2,-4,red,5\n0.2,-4,red,6\n",
+         "t.csv:3: a second row for colour red, observation 0.2, entrance -4"},
+        {"# kind: typical\n" + head,
+         "t.csv:1: \"# kind: typical\" is not a kind of table; expected measured or minimum"},
+        {"# kind: minimum\n# kind: minimum\n" + head,
+         "t.csv:2: a second \"# kind:\" line; expected at most one per file"},
+        {"observation_deg,entrance_deg,color,ra,color\n",
+         "t.csv:1, column 5: column \"color\" appears twice"},
+    };
+    check_table_errors(cases);
+    try {
+        ra_color_rows(t, "red");
+        FAIL("no error");
+    } catch (const InputError& e) {
+        CHECK(
+            contains(e.what(), "t.csv: no rows of colour red; the table's colours: white, yellow"));
+    }
+}
+
+TEST_CASE("ra --standard: the bundled tables, a material judged per entry of its colour",
+          "[photometry]") {
+    const std::vector<std::string> names = standard_names();
+    for (const char* n : {"astm-d4956-i", "astm-d4956-ii", "iso-20471", "ansi-isea-107-level2",
+                          "at-stvzvo-1998-type1", "at-stvzvo-1998-type2"})
+        CHECK(std::count(names.begin(), names.end(), n) == 1);
+    // Every bundled table is a table of minimums that cites its source.
+    for (const std::string& n : names) {
+        INFO(n);
+        const RaMeasurements t = read_standard(n);
+        CHECK(t.kind == RaKind::Minimum);
+        std::string comments;
+        for (const std::string& c : t.comments)
+            comments += c + "\n";
+        CHECK(contains(comments, "Source"));
+        CHECK(contains(comments, "http"));
+    }
+    const RaMeasurements astm = read_standard("astm-d4956-i");
+    const Params dg = read_mtlx(source("examples/sheeting/dg983_white.mtlx")).materials[0].params;
+    const StandardJudgement white = judge_standard(astm, dg);
+    CHECK(white.color == "white");
+    REQUIRE(white.entries.size() == 4);
+    // The material's values are ra_node_values' at the rows, each against its minimum.
+    std::vector<RaEntry> rows;
+    for (const StandardEntry& s : white.entries)
+        rows.push_back(s.entry);
+    const std::vector<double> v = ra_node_values(dg, rows);
+    for (size_t i = 0; i < v.size(); ++i) {
+        CHECK(white.entries[i].material == v[i]);
+        CHECK(white.entries[i].pass == (v[i] >= rows[i].ra));
+        CHECK(rows[i].color == "white");
+    }
+    CHECK(white.entries[0].entry.ra == 70.0);
+    CHECK(white.pass);
+    // The same material judged as brown (lower minimums) passes; a dim one fails.
+    CHECK(judge_standard(astm, dg, "brown").entries.front().entry.ra == 1.0);
+    Params dim = dg;
+    dim.retro_color = {0.01, 0.01, 0.01};
+    const StandardJudgement fail = judge_standard(astm, dim);
+    CHECK_FALSE(fail.pass);
+    CHECK(std::any_of(fail.entries.begin(), fail.entries.end(),
+                      [](const StandardEntry& s) { return !s.pass; }));
+    // A table without a colour column holds for every colour.
+    const RaMeasurements iso = read_standard("iso-20471");
+    CHECK(judge_standard(iso, dg, "yellow").entries.size() == iso.entries.size());
+    struct Case {
+        std::string name, color, expect;
+    };
+    const std::vector<Case> errors = {
+        {"astm-d4956-xi", "white",
+         "--standard astm-d4956-xi: no such standard table; the "
+         "bundled ones: ansi-isea-107-level1, "},
+        {"astm-d4956-i", "purple",
+         "--color purple: not a sheeting colour; expected one of white, "},
+        {"astm-d4956-i", "grey",
+         "astm-d4956-i.csv: no rows of colour grey; the table's colours: "
+         "white, yellow, orange, green, red, blue, brown"},
+    };
+    for (const Case& c : errors) {
+        INFO(c.name << " " << c.color);
+        try {
+            judge_standard(read_standard(c.name), dg, c.color);
+            FAIL("no error");
+        } catch (const InputError& e) {
+            CHECK(contains(e.what(), c.expect));
+        }
+    }
+    // The command prints the same judgement.
+    Run r = cli("ra --document " + source("examples/sheeting/dg983_white.mtlx") +
+                " --standard astm-d4956-i --color yellow");
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+    CHECK(contains(r.output, "astm-d4956-i, colour yellow: pass (4 of 4 entries at or above"));
+    Run list = cli("ra --standard list");
+    CHECK(contains(list.output, "iso-20471"));
+    Run bad = cli("ra --color red");
+    CHECK(bad.status != 0);
+    CHECK(contains(bad.output, "--color goes with --standard NAME"));
+}
+
+TEST_CASE("fit --ra on a coloured table: the geometry from the white rows, each colour's "
+          "retro_color from its rows with the base's hue",
+          "[photometry]") {
+    Params truth;
+    truth.roughness = 0.02;
+    truth.ior = 1.58;
+    truth.prism_reflection = 1; // tir
+    truth.retro_color = {0.7, 0.7, 0.7};
+    Params yellow = truth;
+    yellow.retro_color = {0.8, 0.6, 0.05};
+    const std::vector<double> obs = {0.2, 0.33, 0.5, 1.0}, ent = {-4.0, 15.0, 30.0, 40.0};
+    RaMeasurements t = synthetic_table(truth, obs, ent);
+    for (RaEntry& e : t.entries)
+        e.color = "white";
+    for (RaEntry e : synthetic_table(yellow, obs, ent).entries) {
+        e.color = "yellow";
+        e.line += int(obs.size() * ent.size());
+        t.entries.push_back(e);
+    }
+    // The hue from the base: the truth's yellow at another brightness.
+    Params base;
+    base.retro_color = {0.4, 0.3, 0.025};
+    const RaColoredFit f = fit_ra_colors(t, base, {}, "yellow");
+    REQUIRE(f.colors.size() == 2);
+    CHECK(f.colors[0].color == "white");
+    CHECK(f.rows.entries.size() == obs.size() * ent.size());
+    CHECK(f.rows.entries.front().color == "yellow");
+    // The geometry is recovered from the white rows as by the uncoloured fit (its 1e-3), and
+    // the yellow retro_color, a scale of the base's hue fitted on exact values, with it.
+    CHECK(f.fit.params.prism_reflection == 1);
+    CHECK(f.fit.params.roughness == Approx(0.02).epsilon(1e-3));
+    CHECK(f.colors[0].retro_color[0] == Approx(0.7).epsilon(1e-3));
+    for (size_t c = 0; c < 3; ++c)
+        CHECK(f.fit.params.retro_color[c] == Approx(yellow.retro_color[c]).epsilon(1e-3));
+    CHECK(f.colors[1].retro_color == f.fit.params.retro_color);
+    CHECK(f.fit.report.max_error < 1e-3);
+    std::printf("MEASURED: fit --ra on %zu white and %zu yellow synthetic rows: yellow "
+                "retro_color (%.6g, %.6g, %.6g) for (0.8, 0.6, 0.05), largest error %.2e\n",
+                obs.size() * ent.size(), obs.size() * ent.size(), f.fit.params.retro_color[0],
+                f.fit.params.retro_color[1], f.fit.params.retro_color[2], f.fit.report.max_error);
+    // A grey base cannot give the hue: the luminance matches, the colour is grey.
+    const RaColoredFit grey = fit_ra_colors(t, Params(), {}, "yellow");
+    CHECK(grey.fit.params.retro_color[0] == grey.fit.params.retro_color[2]);
+    CHECK(luminance_709(glm::dvec3(grey.fit.params.retro_color[0], grey.fit.params.retro_color[1],
+                                   grey.fit.params.retro_color[2])) ==
+          Approx(luminance_709(glm::dvec3(0.8, 0.6, 0.05))).epsilon(1e-3));
+    try {
+        fit_ra_colors(t, base, {}, "red");
+        FAIL("no error");
+    } catch (const InputError& e) {
+        CHECK(contains(e.what(), "synthetic.csv: no rows of colour red; the table's colours: "
+                                 "white, yellow"));
+    }
+    // The command: the chosen colour's rows and material, every colour's retro_color.
+    const std::string astm = source("examples/standards/astm-d4956-ii.csv");
+    Run r =
+        cli("fit --ra " + astm + " --material " + source("examples/materials/yellow_sign.json") +
+            " --color yellow --hold cant_angle,dihedral_error,dihedral_spread --json");
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+    const json j = json::parse(r.output.substr(r.output.find('{')));
+    CHECK(j["entries"].size() == 4);
+    CHECK(j["colors"].size() == 7);
+    CHECK(j["params"]["retro_color"] == j["colors"]["yellow"]["retro_color"]);
+    Run bad = cli("fit --ra " + astm + " --color purple");
+    CHECK(bad.status != 0);
+    CHECK(contains(bad.output, "astm-d4956-ii.csv: no rows of colour purple; the table's "
+                               "colours: white, yellow, orange"));
 }
 
 TEST_CASE("ALTA file without #PARAM_OUT: read as BRDF x cos(theta_v) with a warning, or as "
