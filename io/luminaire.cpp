@@ -425,17 +425,6 @@ LuminousIntensityDistribution parse_eulumdat(std::istream& in, const std::string
 
 namespace {
 
-// The comma-separated fields of `line`, each without its surrounding blanks.
-std::vector<std::string> split_csv(const std::string& line) {
-    std::vector<std::string> out;
-    for (size_t start = 0;;) {
-        const size_t comma = line.find(',', start);
-        out.push_back(trim(line.substr(start, comma == std::string::npos ? comma : comma - start)));
-        if (comma == std::string::npos) return out;
-        start = comma + 1;
-    }
-}
-
 // The header row: the type and the horizontal angles.
 void read_csv_header(const std::vector<std::string>& f, LuminousIntensityDistribution& d,
                      const std::string& name, int lineNo) {

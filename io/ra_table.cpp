@@ -31,16 +31,6 @@ const Range kRanges[kColor] = {
 const char* const kForm =
     "observation_deg,entrance_deg,ra[,rotation_deg][,presentation_deg][,color]";
 
-std::vector<std::string> split_fields(const std::string& line) {
-    std::vector<std::string> out;
-    std::string field;
-    std::istringstream ss(line);
-    while (std::getline(ss, field, ','))
-        out.push_back(trim(field));
-    if (!line.empty() && line.back() == ',') out.push_back("");
-    return out;
-}
-
 bool in_range(double v, const Range& r) {
     return (r.openLo ? v > r.lo : v >= r.lo) && (r.openHi ? v < r.hi : v <= r.hi);
 }
@@ -222,7 +212,7 @@ RaMeasurements parse_ra_table(std::istream& in, const std::string& name) {
             kind_directive(t.comments.back(), t, kindSeen, at);
             continue;
         }
-        const std::vector<std::string> fields = split_fields(line);
+        const std::vector<std::string> fields = split_csv(line);
         if (cols.empty()) {
             cols = header_columns(fields, at);
             continue;

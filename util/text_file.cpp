@@ -22,4 +22,14 @@ std::string trim(const std::string& s) {
     return s.substr(b, e - b + 1);
 }
 
+std::vector<std::string> split_csv(const std::string& line) {
+    std::vector<std::string> out;
+    for (size_t start = 0;;) {
+        const size_t comma = line.find(',', start);
+        out.push_back(trim(line.substr(start, comma == std::string::npos ? comma : comma - start)));
+        if (comma == std::string::npos) return out;
+        start = comma + 1;
+    }
+}
+
 } // namespace retroprism

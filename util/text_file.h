@@ -1,7 +1,9 @@
-// text_file.h: a whole file as text, and a line without its surrounding blanks, for the readers.
+// text_file.h: a whole file as text, a line without its surrounding blanks and a CSV line's
+// fields, for the readers.
 #pragma once
 
 #include <string>
+#include <vector>
 
 namespace retroprism {
 
@@ -10,5 +12,8 @@ std::string read_text_file(const std::string& path);
 
 // `s` without leading and trailing blanks (space, tab, CR, LF).
 std::string trim(const std::string& s);
+
+// The comma-separated fields of `line`, each trimmed; a trailing comma gives an empty last field.
+std::vector<std::string> split_csv(const std::string& line);
 
 } // namespace retroprism
