@@ -11,7 +11,13 @@
 // The evaluation path is one function: its small helpers always inlined (their incident state
 // then lives in registers and eval drops what it does not use), the rare reciprocal-form
 // branches kept out of it.
+// Sanitizer builds (-DRP_NO_FORCED_INLINE, scripts/sanitize.sh) leave inlining to the compiler:
+// instrumented, the forced inlining made this core the slowest part of their build.
+#ifdef RP_NO_FORCED_INLINE
+#define RP_FN_HOT inline
+#else
 #define RP_FN_HOT inline __attribute__((always_inline))
+#endif
 #define RP_FN_COLD __attribute__((noinline)) inline
 #define RP_OUT(T) T&
 #define RP_INOUT(T) T&

@@ -5,11 +5,12 @@
 # MaterialX tool; view with the installed page, server and baseline GLSL; the consumer example through CMake and pkg-config; the Python module against
 # the command, bit for bit).
 #   check-install.sh BUILD_DIR      installs the built tree BUILD_DIR and moves the prefix to
-#                                   another folder before using it (ctest entry "install")
+#                                   another folder before using it, and checks that no installed
+#                                   binary names this checkout (ctest entry "install")
 #   check-install.sh --fresh-clone  clones this checkout's HEAD, configures, builds and installs
 #                                   it, deletes the clone and its build tree, then also checks
 #                                   that no installed binary names the clone (ctest entry
-#                                   "install_ci", label ci: a full build)
+#                                   "install_ci", label release: a full build)
 # PYTHON names the interpreter of the Python module (default: Debian's /usr/bin/python3).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -49,6 +50,6 @@ else
   cmake --install "$build" --prefix "$work/installed" >/dev/null
   mv "$work/installed" "$work/moved"
   cd "$work"
-  "${verify[@]}" "$work/moved" --materialx
+  "${verify[@]}" "$work/moved" --source-path "$root" --materialx
 fi
 echo "check-install: the installed tree works alone"

@@ -10,11 +10,13 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${BUILD_DIR:-$root/build-tsan}"
 bash "$root/scripts/setup-debian.sh"
 
+# RP_NO_FORCED_INLINE: the core's calls stay calls (nodes/prism_core.h, nodes/batch.cpp), as in
+# the other sanitizer builds.
 flags="-fsanitize=thread -fno-omit-frame-pointer"
 # -O1 -g: TSan's reports name the lines, and the build stays short. -Wmaybe-uninitialized is
 # not an error here (GCC 12 reports it falsely at -O1 in code the normal build checks).
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Debug -DRETROPRISM_WERROR=ON \
-  -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" -DCMAKE_CXX_FLAGS="$flags -Wno-maybe-uninitialized" \
+  -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" -DCMAKE_CXX_FLAGS="$flags -Wno-maybe-uninitialized -DRP_NO_FORCED_INLINE" \
   -DCMAKE_EXE_LINKER_FLAGS="$flags" -DCMAKE_SHARED_LINKER_FLAGS="$flags" \
   -DRETROPRISM_PYTHON=OFF >/dev/null
 binaries="batch util sim photometry physics"
