@@ -52,12 +52,15 @@ NmResult search(const std::vector<Var>& vars, const std::function<double()>& cos
     return search_box(f, box, box_starts(box, base), 150 + 100 * int(vars.size()));
 }
 
-double log_cost(const RaMeasurements& t, const std::vector<double>& model) {
-    double sum = 0;
+double log_cost(const RaMeasurements& t, const std::vector<double>& model,
+                RaObjective objective = RaObjective::Rms) {
+    double sum = 0, largest = 0;
     for (size_t i = 0; i < model.size(); ++i) {
         const double r = std::log(std::max(model[i], 1e-300)) - std::log(t.entries[i].ra);
         sum += r * r;
+        largest = std::max(largest, r * r);
     }
+    if (objective == RaObjective::Max) return largest;
     return sum / double(std::max<size_t>(model.size(), 1));
 }
 
@@ -133,9 +136,11 @@ const FitInfo& retro_color_fit() {
     throw std::logic_error("the parameter table fits no retro_color");
 }
 
-// retro_color = s chroma with s such that the mean of ln(model / measured) over `rows` is 0,
-// each channel kept in the fitted range and rounded to 6 digits (ra_fit.h, step 2).
-Color3 scaled_retro_color(Params p, const Color3& chroma, const RaMeasurements& rows) {
+// retro_color = s chroma with s such that the mean of ln(model / measured) over `rows` is 0
+// (objective max: the mean of its largest and smallest), each channel kept in the fitted range
+// and rounded to 6 digits (ra_fit.h, step 2).
+Color3 scaled_retro_color(Params p, const Color3& chroma, const RaMeasurements& rows,
+                          RaObjective objective) {
     const FitInfo& range = retro_color_fit();
     double s = luminance_709(glm::dvec3(p.retro_color[0], p.retro_color[1], p.retro_color[2]));
     auto set = [&](double scale) {
@@ -146,10 +151,15 @@ Color3 scaled_retro_color(Params p, const Color3& chroma, const RaMeasurements& 
     for (int iteration = 0; iteration < 30; ++iteration) {
         set(s);
         const std::vector<double> model = ra_node_values(p, rows.entries);
-        double mean = 0;
-        for (size_t i = 0; i < model.size(); ++i)
-            mean += std::log(std::max(model[i], 1e-300) / rows.entries[i].ra);
+        double mean = 0, lo = std::numeric_limits<double>::infinity(), hi = -lo;
+        for (size_t i = 0; i < model.size(); ++i) {
+            const double r = std::log(std::max(model[i], 1e-300) / rows.entries[i].ra);
+            mean += r;
+            lo = std::min(lo, r);
+            hi = std::max(hi, r);
+        }
         mean /= double(model.size());
+        if (objective == RaObjective::Max) mean = 0.5 * (lo + hi);
         s *= std::exp(-mean);
         if (std::abs(mean) < 1e-9) break;
     }
@@ -166,6 +176,16 @@ Color3 color_chroma(bool hue, const Params& base) {
 }
 
 } // namespace
+
+RaObjective ra_objective(const std::string& name) {
+    if (name == "rms") return RaObjective::Rms;
+    if (name == "max") return RaObjective::Max;
+    throw InputError("--objective " + name + ": not one of rms, max");
+}
+
+const char* ra_objective_name(RaObjective objective) {
+    return objective == RaObjective::Max ? "max" : "rms";
+}
 
 std::vector<double> ra_node_values(const Params& material, const std::vector<RaEntry>& entries) {
     // A few dozen directions: the azimuth averages integrated rather than tabulated.
@@ -203,14 +223,14 @@ RaFitReport ra_fit_report(const RaMeasurements& t, const std::vector<double>& mo
 }
 
 RaNodeFit fit_ra_node(const RaMeasurements& t, const Params& base,
-                      const std::vector<std::string>& held) {
+                      const std::vector<std::string>& held, RaObjective objective) {
     Params p = base;
     std::vector<Var> vars;
     std::vector<Choice> choices;
     RaNodeFit fit;
     node_search_space(p, held, vars, choices, fit.fitted);
     require_rows(t, fit.fitted);
-    auto cost = [&] { return log_cost(t, ra_node_values(p, t.entries)); };
+    auto cost = [&] { return log_cost(t, ra_node_values(p, t.entries), objective); };
     // Every combination of the discrete inputs, a search of the continuous ones for each.
     size_t combinations = 1;
     for (const Choice& c : choices)
@@ -240,7 +260,7 @@ RaNodeFit fit_ra_node(const RaMeasurements& t, const Params& base,
     return fit;
 }
 
-RaMrmFit fit_ra_mrm(const RaMeasurements& t) {
+RaMrmFit fit_ra_mrm(const RaMeasurements& t, RaObjective objective) {
     RaMrmFit fit;
     baselines::RetroreflectiveGGX m;
     std::vector<Var> vars(3);
@@ -248,7 +268,8 @@ RaMrmFit fit_ra_mrm(const RaMeasurements& t) {
     vars[1] = {{1.01, 3.0, false}, m.ior, [&](double x) { m.ior = x; }};
     vars[2] = {{0.0, 1.0, false}, m.specular, [&](double x) { m.specular = x; }};
     require_rows(t, {"roughness", "ior", "specular"});
-    const NmResult r = search(vars, [&] { return log_cost(t, ra_mrm_values(m, t.entries)); });
+    const NmResult r =
+        search(vars, [&] { return log_cost(t, ra_mrm_values(m, t.entries), objective); });
     set_all(vars, r.x, true);
     fit.model = m;
     fit.evaluations = r.evaluations;
@@ -257,12 +278,13 @@ RaMrmFit fit_ra_mrm(const RaMeasurements& t) {
 }
 
 RaColoredFit fit_ra_colors(const RaMeasurements& t, const Params& base,
-                           const std::vector<std::string>& held, const std::string& color) {
+                           const std::vector<std::string>& held, const std::string& color,
+                           RaObjective objective) {
     RaColoredFit out;
     const std::vector<std::string> colors = ra_table_colors(t);
     if (colors.empty()) {
         if (!color.empty()) ra_color_rows(t, color); // throws: the table has no colours
-        out.fit = fit_ra_node(t, base, held);
+        out.fit = fit_ra_node(t, base, held, objective);
         out.rows = t;
         return out;
     }
@@ -270,12 +292,12 @@ RaColoredFit fit_ra_colors(const RaMeasurements& t, const Params& base,
     const std::string reference = hasWhite ? "white" : colors.front();
     const std::string chosen = color.empty() ? reference : color;
     out.rows = ra_color_rows(t, chosen);
-    out.fit = fit_ra_node(ra_color_rows(t, reference), base, held);
+    out.fit = fit_ra_node(ra_color_rows(t, reference), base, held, objective);
     for (const std::string& c : colors) {
         const RaMeasurements rows = ra_color_rows(t, c);
         Params p = out.fit.params;
         const bool hue = c == chosen && c != "white";
-        p.retro_color = scaled_retro_color(p, color_chroma(hue, base), rows);
+        p.retro_color = scaled_retro_color(p, color_chroma(hue, base), rows, objective);
         out.colors.push_back(
             {c, p.retro_color, hue, ra_fit_report(rows, ra_node_values(p, rows.entries))});
         if (c == chosen) {

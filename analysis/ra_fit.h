@@ -14,7 +14,10 @@
 //    observation angles of a few degrees it adds < 0.3 cd lx^-1 m^-2.
 //  - R_A of an entry: luminance Y of f cos(theta_i) cos(theta_o), at its rotation or the mean
 //    over rotations 0 and 90 degrees, by analysis/photometry.h (ra_at_entry).
-//  - Objective: the mean of (ln m - ln y)^2 over the entries, every entry alike.
+//  - Objective (RaObjective): the mean of (ln m - ln y)^2 over the entries, every entry alike
+//    (rms, the default), or the largest (ln m - ln y)^2 (max: minimax, for a table every entry
+//    of which is to be met within a bound; `fit --ra --objective max`). Coloured tables' scale
+//    s_C (below) then centres the colour's largest and smallest ln m - ln y instead of their mean.
 //  - Optimiser (deterministic): search_box (util/minimize.h, Nelder-Mead in logistic
 //    coordinates, shared with the ALTA fitter) from the base values and from the centre and both
 //    sides of each input's range, restarted from the best until it improves by less than 1e-9
@@ -44,6 +47,12 @@
 #include "ra_table.h"
 
 namespace retroprism {
+
+enum class RaObjective { Rms, Max };
+
+// "rms" or "max"; InputError "--objective NAME: not one of rms, max" for any other name.
+RaObjective ra_objective(const std::string& name);
+const char* ra_objective_name(RaObjective objective);
 
 struct RaFitReport {
     std::vector<double> model; // R_A per entry, cd lx^-1 m^-2
@@ -76,8 +85,9 @@ RaFitReport ra_fit_report(const RaMeasurements& t, const std::vector<double>& mo
 // entries than fitted inputs. `held`: fittable inputs kept at the base's value instead (names
 // of the parameter table's RP_FIT inputs; InputError naming any other).
 RaNodeFit fit_ra_node(const RaMeasurements& t, const Params& base = Params(),
-                      const std::vector<std::string>& held = {});
-RaMrmFit fit_ra_mrm(const RaMeasurements& t);
+                      const std::vector<std::string>& held = {},
+                      RaObjective objective = RaObjective::Rms);
+RaMrmFit fit_ra_mrm(const RaMeasurements& t, RaObjective objective = RaObjective::Rms);
 
 struct RaColorFit {
     std::string color;  // one of ra_colors()
@@ -97,7 +107,7 @@ struct RaColoredFit {
 // top of this header; `color` names the material returned (empty: the default), InputError
 // "FILE: no rows of colour C; the table's colours: ..." for a colour the table has not.
 RaColoredFit fit_ra_colors(const RaMeasurements& t, const Params& base = Params(),
-                           const std::vector<std::string>& held = {},
-                           const std::string& color = "");
+                           const std::vector<std::string>& held = {}, const std::string& color = "",
+                           RaObjective objective = RaObjective::Rms);
 
 } // namespace retroprism

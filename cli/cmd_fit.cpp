@@ -196,6 +196,7 @@ void print_report(const FitData& d, const AltaData& alta, const FitOptions& o, c
 struct RaFitOutputs {
     std::string plot, mtlx, name, color;
     std::vector<std::string> held; // --hold: fittable inputs kept at the base material's value
+    RaObjective objective = RaObjective::Rms;
     bool json = false;
     bool baselineOnly = false;
 };
@@ -238,9 +239,9 @@ json ra_json(const RaMeasurements& t, const RaNodeFit& nf, const RaMrmFit& mf) {
 }
 
 // --baseline-only: the baseline alone, its parameters and its R_A at every entry.
-int fit_ra_baseline(const std::string& file, bool asJson) {
+int fit_ra_baseline(const std::string& file, bool asJson, RaObjective objective) {
     const RaMeasurements t = read_ra_table(file);
-    const RaMrmFit mf = fit_ra_mrm(t);
+    const RaMrmFit mf = fit_ra_mrm(t, objective);
     if (asJson) {
         json j = json::object();
         j["table"] = t.file;
@@ -265,12 +266,13 @@ int fit_ra_baseline(const std::string& file, bool asJson) {
 }
 
 int fit_ra_table(const std::string& file, const Params& base, const RaFitOutputs& out) {
-    if (out.baselineOnly) return fit_ra_baseline(file, out.json);
+    if (out.baselineOnly) return fit_ra_baseline(file, out.json, out.objective);
     const auto t0 = std::chrono::steady_clock::now();
-    const RaColoredFit cf = fit_ra_colors(read_ra_table(file), base, out.held, out.color);
+    const RaColoredFit cf =
+        fit_ra_colors(read_ra_table(file), base, out.held, out.color, out.objective);
     const RaMeasurements& t = cf.rows; // a coloured table: the rows of the colour fitted
     const RaNodeFit& nf = cf.fit;
-    const RaMrmFit mf = fit_ra_mrm(t);
+    const RaMrmFit mf = fit_ra_mrm(t, out.objective);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (!out.mtlx.empty())
@@ -291,8 +293,9 @@ int fit_ra_table(const std::string& file, const Params& base, const RaFitOutputs
     std::printf("table: %s (%zu rows), R_A [cd lx^-1 m^-2]\n", t.file.c_str(), t.entries.size());
     for (const std::string& c : t.comments)
         std::printf("  # %s\n", c.c_str());
-    std::printf("objective: RMS of ln(model / measured) over the rows, each row alike; rows "
-                "without a rotation angle: the mean over rotations 0 and 90 deg\n\n");
+    std::printf("objective: %s of ln(model / measured) over the rows, each row alike; rows "
+                "without a rotation angle: the mean over rotations 0 and 90 deg\n\n",
+                out.objective == RaObjective::Max ? "largest square" : "RMS");
     std::printf("%-20s %-26s %-26s\n", "", "node (prismatic retroreflector)",
                 "mrm (retroreflective GGX + Lambert)");
     std::printf("%-20s %-26s %-26s\n", "fitted inputs", "from the parameter table",
@@ -345,7 +348,7 @@ int cmd_fit(int argc, const char** argv) {
                "ETA] [--paper-geometry] [--param-out NAME]\n       retroprism fit --ra TABLE.csv "
                "[--json] [--plot "
                "OUT.png] [--mtlx OUT.mtlx [--name NAME]] [--material BASE.json] [--hold NAME,...] "
-               "[--color NAME]\n"
+               "[--objective rms|max] [--color NAME]\n"
                "       retroprism "
                "fit "
                "--ra TABLE.csv --baseline-only [--json]");
@@ -380,6 +383,8 @@ int cmd_fit(int argc, const char** argv) {
     ap.arg("--hold NAMES")
         .help("--ra: fittable inputs (comma-separated) kept at the base material's value instead "
               "of fitted");
+    ap.arg("--objective NAME")
+        .help("--ra: rms (default; the mean square of ln(model / measured)) or max (the largest)");
     ap.arg("--color NAME")
         .help("--ra, a table with a color column: the colour of the material written and "
               "reported (default: white, or the table's first colour)");
@@ -405,6 +410,8 @@ int cmd_fit(int argc, const char** argv) {
         out.plot = plotPath;
         out.json = ap["json"].get<int>() != 0;
         out.baselineOnly = ap["baseline-only"].get<int>() != 0;
+        const std::string objective = ap["objective"].get<std::string>();
+        if (!objective.empty()) out.objective = ra_objective(objective);
         if (out.baselineOnly)
             for (const char* option : {"plot", "mtlx", "name", "material", "hold", "color"})
                 if (!ap[option].get<std::string>().empty())
@@ -425,7 +432,7 @@ int cmd_fit(int argc, const char** argv) {
         return fit_ra_table(raFile,
                             base.empty() ? Params() : params_from_json(read_json(base), base), out);
     }
-    for (const char* option : {"mtlx", "name", "material", "hold", "color"})
+    for (const char* option : {"mtlx", "name", "material", "hold", "color", "objective"})
         if (!ap[option].get<std::string>().empty())
             throw InputError(std::string("--") + option + " goes with --ra TABLE.csv");
     if (ap["baseline-only"].get<int>())

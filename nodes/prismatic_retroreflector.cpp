@@ -283,19 +283,22 @@ int diffraction_terms(const f32::rp_material& m) {
 int diffraction_terms(const f64::rp_material& m) {
     return f64::rp_diffraction_terms(m);
 }
-f32::vec2 diffraction_term_of(const f32::rp_material& m, const f32::rp_incident& s, int j) {
+f32::vec3 diffraction_term_of(const f32::rp_material& m, const f32::rp_incident& s, int j) {
     return f32::rp_diffraction_term_of(m, s, j);
 }
-f64::vec2 diffraction_term_of(const f64::rp_material& m, const f64::rp_incident& s, int j) {
+f64::vec3 diffraction_term_of(const f64::rp_material& m, const f64::rp_incident& s, int j) {
     return f64::rp_diffraction_term_of(m, s, j);
 }
+// A direction of one term (its donut when `donut`, rp_diffraction_term_of) for either precision.
 f32::vec3 diffraction_sample_term(const f32::rp_incident& s, f32::vec3 wi, float var, float u1,
-                                  float u2, float uRing) {
-    return f32::rp_diffraction_sample_term(s, wi, var, u1, u2, uRing);
+                                  float u2, float u3, bool donut) {
+    return donut ? f32::rp_diffraction_sample_donut(s, wi, var, u1, u2, u3)
+                 : f32::rp_diffraction_sample_term(s, wi, var, u1, u2, u3);
 }
 f64::vec3 diffraction_sample_term(const f64::rp_incident& s, f64::vec3 wi, double var, double u1,
-                                  double u2, double uRing) {
-    return f64::rp_diffraction_sample_term(s, wi, var, u1, u2, uRing);
+                                  double u2, double u3, bool donut) {
+    return donut ? f64::rp_diffraction_sample_donut(s, wi, var, u1, u2, u3)
+                 : f64::rp_diffraction_sample_term(s, wi, var, u1, u2, u3);
 }
 
 template <class V>
@@ -476,14 +479,15 @@ PrismaticRetroreflector<Real>::albedo(const vec3& wiWorld, int grid) const {
 // The retro lobe's albedo with diffraction: the same estimator over the lobe's sampling map with
 // the map's discrete choices (channel, term of the pattern) summed with their probabilities
 // instead of drawn: each term's Gaussian on a midpoint grid of about its share of grid^2 points
-// (at least one: side ceil(sqrt(weight grid^2))), and its ring (dihedral errors) at
-// kAlbedoRingPoints / 4 angles, so that the work is about that of the geometric lobe's.
+// (at least one: side ceil(sqrt(weight grid^2))), and its ring (dihedral errors), or the donut's
+// component and radius (its third variate), at kAlbedoRingPoints / 4 values, so that the work is
+// about that of the geometric lobe's.
 template <class Real>
 typename PrismaticRetroreflector<Real>::vec3 PrismaticRetroreflector<Real>::diffraction_albedo(
     const vec3& wi, const typename core<Real>::incident& s, int grid) const {
     const bool grey = m_.diff_scale.x == m_.diff_scale.y && m_.diff_scale.y == m_.diff_scale.z;
     const int channels = grey ? 1 : 3;
-    const int rings = s.ringPar2 + s.ringPerp2 > 0 ? kAlbedoRingPoints / 4 : 1;
+    const bool ringed = s.ringPar2 + s.ringPerp2 > 0;
     const int terms = diffraction_terms(m_);
     double sum[3] = {0, 0, 0};
     for (int ch = 0; ch < channels; ++ch) {
@@ -491,16 +495,19 @@ typename PrismaticRetroreflector<Real>::vec3 PrismaticRetroreflector<Real>::diff
         for (int t = 0; t < terms; ++t) {
             const auto term = diffraction_term_of(m_, s, t);
             if (!(term.x > 0)) continue;
+            const bool donut = term.z > 0;
+            const int rings = ringed || donut ? kAlbedoRingPoints / 4 : 1;
             const int side =
                 std::max(1, int(std::ceil(std::sqrt(double(term.x) * double(grid) * grid))));
             const double weight = double(term.x) / (double(channels) * side * side * rings);
             for (int k = 0; k < rings; ++k)
                 for (int i = 0; i < side; ++i)
                     for (int j = 0; j < side; ++j) {
-                        const vec3 wo = diffraction_sample_term(
-                            s, wi, term.y * scale * scale, (Real(i) + Real(0.5)) / Real(side),
-                            (Real(j) + Real(0.5)) / Real(side),
-                            (Real(k) + Real(0.5)) / Real(rings));
+                        const Real var = term.y * scale * scale;
+                        const Real u1 = (Real(i) + Real(0.5)) / Real(side);
+                        const Real u2 = (Real(j) + Real(0.5)) / Real(side);
+                        const Real u3 = (Real(k) + Real(0.5)) / Real(rings);
+                        const vec3 wo = diffraction_sample_term(s, wi, var, u1, u2, u3, donut);
                         if (!(wo.z >= Real(f64::RP_MIN_COS))) continue;
                         const Real pdf = core<Real>::lobe_pdf(m_, s, wi, wo, 1);
                         if (!(pdf > 0)) continue;

@@ -404,6 +404,14 @@ TEST_CASE("fit --ra --baseline-only fits the GGX baseline alone; options of the 
     Run alta = run("fit " + table.string() + " --baseline-only");
     CHECK(alta.status != 0);
     CHECK(contains(alta.output, "--baseline-only goes with --ra TABLE.csv"));
+    Run objective = run("fit " + table.string() + " --objective max");
+    CHECK(objective.status != 0);
+    CHECK(contains(objective.output, "--objective goes with --ra TABLE.csv"));
+    Run minimax = run("fit --ra " + table.string() + " --baseline-only --objective minimax");
+    CHECK(minimax.status != 0);
+    CHECK(contains(minimax.output, "--objective minimax: not one of rms, max"));
+    Run largest = run("fit --ra " + table.string() + " --baseline-only --objective max");
+    CHECK(largest.status == 0);
     // A table the reader refuses: its message, naming the file and line (what the view server
     // passes on to the page).
     const fs::path zero =

@@ -1864,6 +1864,15 @@ const int RP_DIFF_ORIENTATIONS = 12;
 // The Gaussian core's share of the pattern (fitted to the azimuth-averaged Fraunhofer pattern
 // of the regular hexagon blurred by the rough surface, docs/diffraction.md).
 const float RP_DIFF_CORE_WEIGHT = float(0.65);
+// Uncoated prisms' whole-aperture share (rp_diffraction_setup): its core's weight, and the
+// factors on the core's variance and the tail's scale that rp_diffraction_shape gives; this share
+// also carries the cross term between the orders' mean field and their departures from it.
+// The face orders' share, which vanishes on axis (the departures of equal orders sum to zero
+// there): the weight of its core, a Gaussian's "donut" (rho^2 / 2v) G_v(rho), and the factors on
+// that core's variance and on the tail's scale. Fitted to the wave optics' R_A of uncoated
+// prisms (tests/sim/test_wave.cpp's comparison table, docs/diffraction.md).
+const vec3 RP_DIFF_WHOLE_TIR = vec3(float(0.0729), float(0.251), float(0.668));
+const vec3 RP_DIFF_ORDERS = vec3(float(0.365), float(0.569), float(0.500));
 // The widest a term of the pattern may spread in the slopes (alpha^2; 1 is 45 degrees): the
 // paraxial Fraunhofer pattern stands for nothing beyond, and wider terms would put their mass at
 // the horizon of wi.
@@ -3101,13 +3110,14 @@ struct rp_incident {
     float diffCoherent;   // diffraction: the coherent share c of the pattern (rp_diffraction_setup)
     float diffCore2;      // diffraction: the whole aperture's pattern: its Gaussian core's variance
     float diffTail;       // per axis and its Cauchy tail's scale, in nu = Delta s pitch / lambda
-    float diffOrderCore2; // diffraction: the face orders' pattern (share 1 - c): the same
-    float diffOrderTail;
-    float geoPar2;   // diffraction: the geometric lobe's alphaPar^2, alphaPerp^2 before the
-    float geoPerp2;  // ring's stretch
-    float ringPar2;  // diffraction: the ring of spots' second moments in the slopes along and
-    float ringPerp2; // across the plane of incidence (0 for perfect cubes)
-    vec3 lobeProb;  // P(surface), P(retro), P(diffuse); zero vector when nothing reflects
+    float diffCoreWeight; // and its core's weight
+    float diffOrderCore2; // diffraction: the face orders' pattern (share 1 - c): its donut core's
+    float diffOrderTail;  // variance per axis and its tail's scale
+    float geoPar2;        // diffraction: the geometric lobe's alphaPar^2, alphaPerp^2 before the
+    float geoPerp2;       // ring's stretch
+    float ringPar2;       // diffraction: the ring of spots' second moments in the slopes along and
+    float ringPerp2;      // across the plane of incidence (0 for perfect cubes)
+    vec3 lobeProb;       // P(surface), P(retro), P(diffuse); zero vector when nothing reflects
 };
 
 float rp_mean3(vec3 c) {
@@ -3185,7 +3195,8 @@ vec2 rp_diffraction_shape(in rp_material m, float peak, float slope) {
 // aperture's and those between orders weighted by y / (1 - c), y = m.diff_coherence.y, so that
 // the whole pattern's tail has the edges P + y (P_sub - P) the wave optics measures. Each share
 // is a core and a tail of its own (rp_diffraction_shape): the orders' pattern, of apertures a
-// sixth the size, is the wider.
+// sixth the size, is the wider, and its core a donut (RP_DIFF_ORDERS); uncoated prisms' whole
+// share takes the form RP_DIFF_WHOLE_TIR.
 void rp_diffraction_setup(in rp_material m, inout rp_incident s, float sinThetaI,
                                 float cosThetaT) {
     // The prisms' orientations: one (oriented), the pair (matched_pair) or a midpoint rule of
@@ -3220,16 +3231,19 @@ void rp_diffraction_setup(in rp_material m, inout rp_incident s, float sinThetaI
     float peak = sum.y / sum.x;
     float slope = sum.z / (float(2.0) * RP_PI * RP_PI * sum.x);
     vec2 whole = rp_diffraction_shape(m, peak, slope);
+    vec3 form = vec3(RP_DIFF_CORE_WEIGHT, float(1.0), float(1.0));
+    if (m.prism_reflection == RP_PRISM_TIR) form = RP_DIFF_WHOLE_TIR;
     s.diffCoherent = ce.x;
-    s.diffCore2 = whole.x;
-    s.diffTail = whole.y;
+    s.diffCore2 = whole.x * form.y;
+    s.diffTail = whole.y * form.z;
+    s.diffCoreWeight = form.x;
     if (ce.x < float(1.0)) {
         float edges = ce.y / (float(1.0) - ce.x);
         vec2 orders = rp_diffraction_shape(m, peak / float(6.0),
                                            (sum.z + edges * (sum.w - sum.z)) /
                                                (float(2.0) * RP_PI * RP_PI * sum.x));
-        s.diffOrderCore2 = orders.x;
-        s.diffOrderTail = orders.y;
+        s.diffOrderCore2 = orders.x * RP_DIFF_ORDERS.y;
+        s.diffOrderTail = orders.y * RP_DIFF_ORDERS.z;
     }
     // docs/dihedral.md: the ring's moments inside the prism carried out by the exit refraction
     // (rp_incident_lobes), absolute here.
@@ -3277,6 +3291,7 @@ void rp_incident_lobes(in rp_material m, vec3 wi, out rp_incident s) {
     s.diffCoherent = float(1.0);
     s.diffCore2 = float(0.0);
     s.diffTail = float(0.0);
+    s.diffCoreWeight = float(0.0);
     s.diffOrderCore2 = float(0.0);
     s.diffOrderTail = float(0.0);
     s.geoPar2 = float(1.0);
@@ -3500,13 +3515,32 @@ float rp_diffraction_term(vec3 wd, float sx, float sy) {
     return norm * exp(-x);
 }
 
-// One share of the pattern (core variance core2, tail scale tail, rp_diffraction_shape) at the
-// slopes (sx, sy) for lambda / pitch `scale`: the geometric lobe convolved with its core and each
-// scale of its tail.
+// The donut (rho^2 / 2v) G_v(rho) of variance var per axis of Delta s (the face orders' core)
+// convolved with the geometric lobe, at the slopes (sx, sy): per axis k, with A_k the donut's
+// alpha^2 and B_k the lobe's (W_k = A_k + B_k), G_W times sum_k A_k s_k^2 / W_k^2 + B_k / (2 W_k)
+// (exact: x^2 g_A / A = A dg_A/dA + g_A / 2, and dA passes through the convolution). Stretched by
+// the ring of spots, it is taken as the Gaussian of its second moments (variance 2 var).
+float rp_diffraction_donut(in rp_incident s, float var, float sx, float sy) {
+    vec3 wd = rp_diffraction_widths(s, var);
+    if (wd.z > float(0.0))
+        return rp_diffraction_term(rp_diffraction_widths(s, float(2.0) * var), sx, sy);
+    float aPar = min(float(2.0) * var * s.invCosI * s.invCosI, RP_DIFF_MAX_WIDTH2);
+    float aPerp = min(float(2.0) * var, RP_DIFF_MAX_WIDTH2);
+    float x = sx * sx / wd.x + sy * sy / wd.y;
+    if (!(x <= RP_MAX_EXP)) return float(0.0);
+    float factor = aPar * sx * sx / (wd.x * wd.x) + float(0.5) * s.geoPar2 / wd.x +
+                  aPerp * sy * sy / (wd.y * wd.y) + float(0.5) * s.geoPerp2 / wd.y;
+    return RP_INV_PI / sqrt(wd.x * wd.y) * exp(-x) * factor;
+}
+
+// One share of the pattern (core variance core2 and weight coreWeight, the core a donut when
+// `donut`; tail scale tail; rp_diffraction_shape) at the slopes (sx, sy) for lambda / pitch
+// `scale`: the geometric lobe convolved with its core and each scale of its tail.
 float rp_diffraction_share(in rp_material m, in rp_incident s, float scale, float sx,
-                                float sy, float core2, float tail) {
+                                float sy, float core2, float tail, float coreWeight, bool donut) {
     float scale2 = scale * scale;
-    float core = rp_diffraction_term(rp_diffraction_widths(s, core2 * scale2), sx, sy);
+    float core = donut ? rp_diffraction_donut(s, core2 * scale2, sx, sy)
+                      : rp_diffraction_term(rp_diffraction_widths(s, core2 * scale2), sx, sy);
     float sum = float(0.0);
     float a2 = tail * tail * scale2;
     if (m.fidelity == RP_FIDELITY_FAST) {
@@ -3522,18 +3556,20 @@ float rp_diffraction_share(in rp_material m, in rp_incident s, float scale, floa
                    rp_diffraction_term(rp_diffraction_widths(s, a2 * r * r), sx, sy);
         }
     }
-    return RP_DIFF_CORE_WEIGHT * core + (float(1.0) - RP_DIFF_CORE_WEIGHT) * sum;
+    return coreWeight * core + (float(1.0) - coreWeight) * sum;
 }
 
 // The retro lobe's slope density with diffraction for one channel of lambda / pitch `scale`: the
 // whole aperture's share and, when the face orders are not fully coherent, theirs.
 float rp_diffraction_channel(in rp_material m, in rp_incident s, float scale, float sx,
                                   float sy) {
-    float whole = rp_diffraction_share(m, s, scale, sx, sy, s.diffCore2, s.diffTail);
+    float whole =
+        rp_diffraction_share(m, s, scale, sx, sy, s.diffCore2, s.diffTail, s.diffCoreWeight, false);
     if (!(s.diffCoherent < float(1.0))) return whole;
     return s.diffCoherent * whole +
-           (float(1.0) - s.diffCoherent) *
-               rp_diffraction_share(m, s, scale, sx, sy, s.diffOrderCore2, s.diffOrderTail);
+           (float(1.0) - s.diffCoherent) * rp_diffraction_share(m, s, scale, sx, sy,
+                                                               s.diffOrderCore2, s.diffOrderTail,
+                                                               RP_DIFF_ORDERS.x, true);
 }
 
 // True when every channel has the same lambda / pitch (a `wavelength` given).
@@ -3563,24 +3599,26 @@ vec3 rp_diffraction_density(in rp_material m, in rp_incident s, vec3 wo, vec3 wi
 
 // The pattern's terms for the incident state s: the face orders' share first (term 0 its core,
 // term j > 0 scale j - 1 of its tail, every other scale in the fast tier; weight 0 when the
-// orders are fully coherent), then the whole aperture's the same way; each term's weight and
-// variance per axis in nu^2. The last term's weight is never 0.
+// orders are fully coherent), then the whole aperture's the same way; each term's weight,
+// variance per axis in nu^2, and 1 for the donut (the orders' core), 0 for a Gaussian. The last
+// term's weight is never 0.
 int rp_diffraction_terms(in rp_material m) {
     return 2 * (1 + (m.fidelity == RP_FIDELITY_FAST ? RP_DIFF_TAIL_N_FAST : RP_DIFF_TAIL_N));
 }
 
-vec2 rp_diffraction_term_of(in rp_material m, in rp_incident s, int j) {
+vec3 rp_diffraction_term_of(in rp_material m, in rp_incident s, int j) {
     bool fast = m.fidelity == RP_FIDELITY_FAST;
     int perShare = 1 + (fast ? RP_DIFF_TAIL_N_FAST : RP_DIFF_TAIL_N);
     bool orders = j < perShare;
     float share = orders ? float(1.0) - s.diffCoherent : s.diffCoherent;
     float core2 = orders ? s.diffOrderCore2 : s.diffCore2;
     float tail = orders ? s.diffOrderTail : s.diffTail;
+    float coreWeight = orders ? RP_DIFF_ORDERS.x : s.diffCoreWeight;
     int k = orders ? j : j - perShare;
-    if (k == 0) return vec2(share * RP_DIFF_CORE_WEIGHT, core2);
+    if (k == 0) return vec3(share * coreWeight, core2, orders ? float(1.0) : float(0.0));
     float w = fast ? rp_diff_weight_fast_at(k - 1) : rp_diff_weight_at(k - 1);
     float r = fast ? rp_diff_ratio_at(2 * (k - 1)) : rp_diff_ratio_at(k - 1);
-    return vec2(share * (float(1.0) - RP_DIFF_CORE_WEIGHT) * w, tail * tail * r * r);
+    return vec3(share * (float(1.0) - coreWeight) * w, tail * tail * r * r, float(0.0));
 }
 
 // A direction of one term of the lobe, variance var per axis of Delta s (rad^2), for u1, u2
@@ -3602,8 +3640,34 @@ vec3 rp_diffraction_sample_term(in rp_incident s, vec3 wi, float var, float u1, 
     return normalize(wi + sx * s.ePar + sy * s.ePerp);
 }
 
+// A direction of the donut term of variance var per axis of Delta s (rp_diffraction_donut): its
+// density is a mixture of G_W (weight sum_k B_k / (2 W_k)) and, per axis k, of G_W times
+// 2 s_k^2 / W_k (weight A_k / (2 W_k)), whose s_k^2 / W_k is Gamma(3/2): the Gaussian's Gamma(1/2)
+// (u1, u2) plus an exponential variate of what is left of u3 after choosing the component.
+// Stretched by the ring of spots, the Gaussian of its second moments as there.
+vec3 rp_diffraction_sample_donut(in rp_incident s, vec3 wi, float var, float u1, float u2,
+                                       float u3) {
+    vec3 wd = rp_diffraction_widths(s, var);
+    if (wd.z > float(0.0)) return rp_diffraction_sample_term(s, wi, float(2.0) * var, u1, u2, u3);
+    float radius = sqrt(-log(max(float(1.0) - u1, RP_U_EPS)));
+    float phi = float(2.0) * RP_PI * u2;
+    float sx = sqrt(wd.x) * radius * cos(phi);
+    float sy = sqrt(wd.y) * radius * sin(phi);
+    float pPar = float(0.5) * min(float(2.0) * var * s.invCosI * s.invCosI, RP_DIFF_MAX_WIDTH2) / wd.x;
+    float pPerp = float(0.5) * min(float(2.0) * var, RP_DIFF_MAX_WIDTH2) / wd.y;
+    if (u3 < pPar) {
+        float e = -log(max(float(1.0) - u3 / pPar, RP_U_EPS));
+        sx = (sx < float(0.0) ? float(-1.0) : float(1.0)) * sqrt(sx * sx + wd.x * e);
+    } else if (u3 < pPar + pPerp) {
+        float e = -log(max(float(1.0) - (u3 - pPar) / pPerp, RP_U_EPS));
+        sy = (sy < float(0.0) ? float(-1.0) : float(1.0)) * sqrt(sy * sy + wd.y * e);
+    }
+    return normalize(wi + sx * s.ePar + sy * s.ePerp);
+}
+
 // A direction of the diffraction lobe: u3 picks the channel (unless all are alike), then the
-// term of the pattern (rp_diffraction_term_of), and what is left of it the point of the ring.
+// term of the pattern (rp_diffraction_term_of), and what is left of it the point of the ring
+// (the donut's component and radius).
 vec3 rp_diffraction_sample(in rp_material m, in rp_incident s, vec3 wi, float u1,
                                  float u2, float u3) {
     float u = u3;
@@ -3615,7 +3679,7 @@ vec3 rp_diffraction_sample(in rp_material m, in rp_incident s, vec3 wi, float u1
         scale = m.diff_scale[ch];
     }
     int n = rp_diffraction_terms(m);
-    vec2 term = rp_diffraction_term_of(m, s, 0);
+    vec3 term = rp_diffraction_term_of(m, s, 0);
     for (int j = 0; j < 2 * (RP_DIFF_TAIL_N + 1); ++j) {
         if (j >= n) break;
         term = rp_diffraction_term_of(m, s, j);
@@ -3625,6 +3689,8 @@ vec3 rp_diffraction_sample(in rp_material m, in rp_incident s, vec3 wi, float u1
         }
         u -= term.x;
     }
+    if (term.z > float(0.0))
+        return rp_diffraction_sample_donut(s, wi, term.y * scale * scale, u1, u2, u);
     return rp_diffraction_sample_term(s, wi, term.y * scale * scale, u1, u2, u);
 }
 
