@@ -30,9 +30,19 @@ double round6(double x) {
     return std::strtod(buf, nullptr);
 }
 
+// x rounded to 6 significant digits, and to the box's bound when within 1e-6 of its range of it
+// (a logistic coordinate far out reaches a bound only in the limit: 2e-225 for a bound of 0,
+// which no float of a document holds).
+double round_in_box(double x, const BoxVar& box) {
+    const double tolerance = 1e-6 * (box.hi - box.lo);
+    if (std::abs(x - box.lo) <= tolerance) return box.lo;
+    if (std::abs(x - box.hi) <= tolerance) return box.hi;
+    return round6(x);
+}
+
 void set_all(const std::vector<Var>& vars, const std::vector<double>& x, bool rounded) {
     for (size_t k = 0; k < vars.size(); ++k)
-        vars[k].set(rounded ? round6(x[k]) : x[k]);
+        vars[k].set(rounded ? round_in_box(x[k], vars[k].box) : x[k]);
 }
 
 // Minimises cost() over the vars (each set before a call) by search_box (util/minimize.h) from
@@ -230,7 +240,8 @@ RaNodeFit fit_ra_node(const RaMeasurements& t, const Params& base,
     RaNodeFit fit;
     node_search_space(p, held, vars, choices, fit.fitted);
     require_rows(t, fit.fitted);
-    auto cost = [&] { return log_cost(t, ra_node_values(p, t.entries), objective); };
+    RaObjective pass = RaObjective::Rms;
+    auto cost = [&] { return log_cost(t, ra_node_values(p, t.entries), pass); };
     // Every combination of the discrete inputs, a search of the continuous ones for each.
     size_t combinations = 1;
     for (const Choice& c : choices)
@@ -245,8 +256,19 @@ RaNodeFit fit_ra_node(const RaMeasurements& t, const Params& base,
         }
         for (Var& v : vars) // every combination starts from the base values
             v.set(v.start);
-        const NmResult r = search(vars, cost);
+        // The least-squares search; for the minimax objective, whose cost has corners the
+        // simplex can stall on, its search then starts from the least-squares inputs.
+        pass = RaObjective::Rms;
+        NmResult r = search(vars, cost);
         fit.evaluations += r.evaluations;
+        if (objective == RaObjective::Max) {
+            std::vector<Var> from = vars;
+            for (size_t i = 0; i < from.size(); ++i)
+                from[i].start = r.x[i];
+            pass = RaObjective::Max;
+            r = search(from, cost);
+            fit.evaluations += r.evaluations;
+        }
         set_all(vars, r.x, true);
         // Values that fit alike (metallized is ideal with a darker retro_color): the first.
         const double c = cost();
@@ -268,11 +290,19 @@ RaMrmFit fit_ra_mrm(const RaMeasurements& t, RaObjective objective) {
     vars[1] = {{1.01, 3.0, false}, m.ior, [&](double x) { m.ior = x; }};
     vars[2] = {{0.0, 1.0, false}, m.specular, [&](double x) { m.specular = x; }};
     require_rows(t, {"roughness", "ior", "specular"});
-    const NmResult r =
-        search(vars, [&] { return log_cost(t, ra_mrm_values(m, t.entries), objective); });
+    NmResult r =
+        search(vars, [&] { return log_cost(t, ra_mrm_values(m, t.entries), RaObjective::Rms); });
+    int evaluations = r.evaluations;
+    if (objective == RaObjective::Max) { // from the least-squares fit, as fit_ra_node
+        for (size_t i = 0; i < vars.size(); ++i)
+            vars[i].start = r.x[i];
+        r = search(vars,
+                   [&] { return log_cost(t, ra_mrm_values(m, t.entries), RaObjective::Max); });
+        evaluations += r.evaluations;
+    }
     set_all(vars, r.x, true);
     fit.model = m;
-    fit.evaluations = r.evaluations;
+    fit.evaluations = evaluations;
     fit.report = ra_fit_report(t, ra_mrm_values(m, t.entries));
     return fit;
 }

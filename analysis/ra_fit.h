@@ -21,7 +21,8 @@
 //  - Optimiser (deterministic): search_box (util/minimize.h, Nelder-Mead in logistic
 //    coordinates, shared with the ALTA fitter) from the base values and from the centre and both
 //    sides of each input's range, restarted from the best until it improves by less than 1e-9
-//    relative. The fitted values are then rounded to 6 significant digits and
+//    relative. The fitted values are then rounded to 6 significant digits (a value within 1e-6
+//    of its range of a bound to the bound) and
 //    the report is that of the rounded values, so that a document written from them gives R_A
 //    exactly as reported.
 //  - Coloured tables (rows with a `color`, io/ra_table.h; fit_ra_colors): R_A is a luminance,

@@ -283,21 +283,22 @@ int diffraction_terms(const f32::rp_material& m) {
 int diffraction_terms(const f64::rp_material& m) {
     return f64::rp_diffraction_terms(m);
 }
-f32::vec3 diffraction_term_of(const f32::rp_material& m, const f32::rp_incident& s, int j) {
+f32::vec4 diffraction_term_of(const f32::rp_material& m, const f32::rp_incident& s, int j) {
     return f32::rp_diffraction_term_of(m, s, j);
 }
-f64::vec3 diffraction_term_of(const f64::rp_material& m, const f64::rp_incident& s, int j) {
+f64::vec4 diffraction_term_of(const f64::rp_material& m, const f64::rp_incident& s, int j) {
     return f64::rp_diffraction_term_of(m, s, j);
 }
-// A direction of one term (its donut when `donut`, rp_diffraction_term_of) for either precision.
-f32::vec3 diffraction_sample_term(const f32::rp_incident& s, f32::vec3 wi, float var, float u1,
+// A direction of one term (variances var along and across the plane of incidence; its donut
+// when `donut`, rp_diffraction_term_of) for either precision.
+f32::vec3 diffraction_sample_term(const f32::rp_incident& s, f32::vec3 wi, f32::vec2 var, float u1,
                                   float u2, float u3, bool donut) {
-    return donut ? f32::rp_diffraction_sample_donut(s, wi, var, u1, u2, u3)
+    return donut ? f32::rp_diffraction_sample_donut(s, wi, var.x, u1, u2, u3)
                  : f32::rp_diffraction_sample_term(s, wi, var, u1, u2, u3);
 }
-f64::vec3 diffraction_sample_term(const f64::rp_incident& s, f64::vec3 wi, double var, double u1,
+f64::vec3 diffraction_sample_term(const f64::rp_incident& s, f64::vec3 wi, f64::vec2 var, double u1,
                                   double u2, double u3, bool donut) {
-    return donut ? f64::rp_diffraction_sample_donut(s, wi, var, u1, u2, u3)
+    return donut ? f64::rp_diffraction_sample_donut(s, wi, var.x, u1, u2, u3)
                  : f64::rp_diffraction_sample_term(s, wi, var, u1, u2, u3);
 }
 
@@ -495,7 +496,7 @@ typename PrismaticRetroreflector<Real>::vec3 PrismaticRetroreflector<Real>::diff
         for (int t = 0; t < terms; ++t) {
             const auto term = diffraction_term_of(m_, s, t);
             if (!(term.x > 0)) continue;
-            const bool donut = term.z > 0;
+            const bool donut = term.w > 0;
             const int rings = ringed || donut ? kAlbedoRingPoints / 4 : 1;
             const int side =
                 std::max(1, int(std::ceil(std::sqrt(double(term.x) * double(grid) * grid))));
@@ -503,7 +504,8 @@ typename PrismaticRetroreflector<Real>::vec3 PrismaticRetroreflector<Real>::diff
             for (int k = 0; k < rings; ++k)
                 for (int i = 0; i < side; ++i)
                     for (int j = 0; j < side; ++j) {
-                        const Real var = term.y * scale * scale;
+                        const glm::vec<2, Real> var =
+                            glm::vec<2, Real>(term.y, term.z) * (scale * scale);
                         const Real u1 = (Real(i) + Real(0.5)) / Real(side);
                         const Real u2 = (Real(j) + Real(0.5)) / Real(side);
                         const Real u3 = (Real(k) + Real(0.5)) / Real(rings);

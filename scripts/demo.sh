@@ -24,7 +24,7 @@ sheeting="$root/examples/sheeting"
 "$cli" fit --ra "$sheeting/dg983_white.csv" --hold dihedral_spread --plot "$root/out/dg983_white_fit.png"
 "$cli" approach "$sheeting/dg983_white.mtlx" --table "$sheeting/dg983_white.csv" \
   --out "$root/out/approach"
-# The same table's preset with diffraction (uncoated prisms, their pitch fitted: 84.3 um): on approach it
+# The same table's preset with diffraction (uncoated prisms, their pitch fitted: 135 um): on approach it
 # keeps its light at 1 degree of observation, where the geometric preset goes dark.
 "$cli" approach "$sheeting/dg983_white_tir.mtlx" --table "$sheeting/dg983_white.csv" \
   --out "$root/out/approach"

@@ -1871,12 +1871,15 @@ const float RP_DIFF_CORE_WEIGHT = float(0.65);
 // there): the weight of its core, a Gaussian's "donut" (rho^2 / 2v) G_v(rho), and the factors on
 // that core's variance and on the tail's scale. Fitted to the wave optics' R_A of uncoated
 // prisms (tests/sim/test_wave.cpp's comparison table, docs/diffraction.md).
-const vec3 RP_DIFF_WHOLE_TIR = vec3(float(0.0729), float(0.251), float(0.668));
-const vec3 RP_DIFF_ORDERS = vec3(float(0.365), float(0.569), float(0.500));
+const vec3 RP_DIFF_WHOLE_TIR = vec3(float(0.1300), float(0.4996), float(0.6203));
+const vec3 RP_DIFF_ORDERS = vec3(float(0.3818), float(0.5705), float(0.5291));
 // The widest a term of the pattern may spread in the slopes (alpha^2; 1 is 45 degrees): the
 // paraxial Fraunhofer pattern stands for nothing beyond, and wider terms would put their mass at
 // the horizon of wi.
 const float RP_DIFF_MAX_WIDTH2 = float(1.0);
+// The power of M_perp / M_par (the aperture's second moments across and along the plane of
+// incidence) that gives the pattern's anisotropy (rp_diffraction_setup).
+const float RP_DIFF_ANISO_POWER = float(1.0);
 // The smallest pitch taken as given (um): below it lambda / pitch could overflow.
 const float RP_DIFF_MIN_PITCH_UM = float(0.001);
 // The least share of the pattern's peak left to its core.
@@ -3111,6 +3114,8 @@ struct rp_incident {
     float diffCore2;      // diffraction: the whole aperture's pattern: its Gaussian core's variance
     float diffTail;       // per axis and its Cauchy tail's scale, in nu = Delta s pitch / lambda
     float diffCoreWeight; // and its core's weight
+    float diffAniso;      // diffraction: the pattern's variance along the plane of incidence over
+                         // the isotropic one (and its inverse across: rp_diffraction_setup)
     float diffOrderCore2; // diffraction: the face orders' pattern (share 1 - c): its donut core's
     float diffOrderTail;  // variance per axis and its tail's scale
     float geoPar2;        // diffraction: the geometric lobe's alphaPar^2, alphaPerp^2 before the
@@ -3135,6 +3140,17 @@ void rp_lobe_estimates(in rp_material m, in rp_incident s, out vec3 surface,
     diffuse = m.diffuse_albedo * (s.transI * s.passed);
 }
 
+// The bounds m_k = 2 e_k.z (d.e_k) / d.z of T and T' in T's barycentric coordinates for the
+// inner direction d in the prism's frame (rp_aperture_measures), or 0 where no light passes.
+vec3 rp_aperture_bounds(in rp_material m, vec3 d) {
+    if (!(d.z < float(0.0))) return vec3(float(0.0));
+    float r = float(2.0) / d.z;
+    vec3 mk = vec3(r * m.ap_e1.z * dot(d, m.ap_e1), r * m.ap_e2.z * dot(d, m.ap_e2),
+                   r * m.ap_e3.z * dot(d, m.ap_e3));
+    if (!(mk.x > float(0.0) && mk.y > float(0.0) && mk.z > float(0.0))) return vec3(float(0.0));
+    return mk;
+}
+
 // The effective aperture of one prism for the inner direction d given in the prism's own frame
 // (orientation 0): (A, A^2, P, P_sub) in pitches, with A the area of T and T', P its perimeter and
 // P_sub the summed perimeters of its six face orders (the regions the projections of the cube's
@@ -3145,11 +3161,8 @@ void rp_lobe_estimates(in rp_material m, in rp_incident s, out vec3 surface,
 // edge's length; the ray from O_d = m / 2 toward vertex k leaves at t = min(1, m_k / (2 - m_k)),
 // and T and T' is centrally symmetric about O_d, so the ray toward T''s vertex k is as long.
 vec4 rp_aperture_measures(in rp_material m, vec3 d) {
-    if (!(d.z < float(0.0))) return vec4(float(0.0));
-    float r = float(2.0) / d.z;
-    vec3 mk = vec3(r * m.ap_e1.z * dot(d, m.ap_e1), r * m.ap_e2.z * dot(d, m.ap_e2),
-                   r * m.ap_e3.z * dot(d, m.ap_e3));
-    if (!(mk.x > float(0.0) && mk.y > float(0.0) && mk.z > float(0.0))) return vec4(float(0.0));
+    vec3 mk = rp_aperture_bounds(m, d);
+    if (!(mk.x > float(0.0))) return vec4(float(0.0));
     vec3 l = vec3(float(1.0)) - mk;
     float frac =
         clamp(float(1.0) - l.x * abs(l.x) - l.y * abs(l.y) - l.z * abs(l.z), float(0.0), float(1.0));
@@ -3168,6 +3181,48 @@ vec4 rp_aperture_measures(in rp_material m, vec3 d) {
     float inner =
         t.x * length(m.ap_v1 - od) + t.y * length(m.ap_v2 - od) + t.z * length(m.ap_v3 - od);
     return vec4(area, area * area, perim, perim + float(4.0) * inner);
+}
+
+// The second moments (pitches^4) of the effective aperture T and T' of rp_aperture_measures
+// about its centre of symmetry O_d, along d's sheet-plane components and across them: the sum
+// over its edges (each on a line l_k = 0 or l_k = m_k, over the ranges rp_aperture_measures
+// gives) of the triangle from O_d to the edge, whose moment along u is
+// (A / 6) ((a.u)^2 + (b.u)^2 + (a.u)(b.u)) for its vertices a, b relative to O_d.
+vec2 rp_aperture_moments(in rp_material m, vec3 d) {
+    vec3 mk = rp_aperture_bounds(m, d);
+    if (!(mk.x > float(0.0))) return vec2(float(0.0));
+    float dl = length(vec2(d.x, d.y));
+    vec2 u = dl > float(0.0) ? vec2(d.x, d.y) / dl : vec2(float(1.0), float(0.0));
+    vec2 w = vec2(-u.y, u.x);
+    vec2 od = float(0.5) * (mk.x * m.ap_v1 + mk.y * m.ap_v2 + mk.z * m.ap_v3);
+    vec2 moments = vec2(float(0.0));
+    for (int k = 0; k < 3; ++k) {
+        int i = (k + 1) % 3;
+        int j = (k + 2) % 3;
+        vec2 vk = k == 0 ? m.ap_v1 : (k == 1 ? m.ap_v2 : m.ap_v3);
+        vec2 vi = i == 0 ? m.ap_v1 : (i == 1 ? m.ap_v2 : m.ap_v3);
+        vec2 vj = j == 0 ? m.ap_v1 : (j == 1 ? m.ap_v2 : m.ap_v3);
+        float mi = mk[i];
+        float mj = mk[j];
+        // T's edge (l_k = 0, l_j = 1 - l_i), then T''s (l_k = m_k, l_j = 1 - m_k - l_i).
+        for (int side = 0; side < 2; ++side) {
+            float base = side == 0 ? float(0.0) : mk[k];
+            float lo = max(float(0.0), float(1.0) - base - mj);
+            float hi = min(mi, float(1.0) - base);
+            if (side == 0) hi = min(float(1.0), mi);
+            if (!(hi > lo)) continue;
+            vec2 a = base * vk + lo * vi + (float(1.0) - base - lo) * vj - od;
+            vec2 b = base * vk + hi * vi + (float(1.0) - base - hi) * vj - od;
+            float area = float(0.5) * abs(a.x * b.y - a.y * b.x);
+            float au = dot(a, u);
+            float bu = dot(b, u);
+            float aw = dot(a, w);
+            float bw = dot(b, w);
+            moments +=
+                (area / float(6.0)) * vec2(au * au + bu * bu + au * bu, aw * aw + bw * bw + aw * bw);
+        }
+    }
+    return moments;
 }
 
 // The core's variance per axis and the tail's scale (x, y) of a pattern of peak `peak` and
@@ -3213,13 +3268,16 @@ void rp_diffraction_setup(in rp_material m, inout rp_incident s, float sinThetaI
         start = float(0.5) * step;
     }
     vec4 sum = vec4(float(0.0));
+    vec2 moments = vec2(float(0.0));
     for (int i = 0; i < RP_DIFF_ORIENTATIONS; ++i) {
         if (i >= count) break;
         float psi = start + float(i) * step;
         float c = cos(psi);
         float sn = sin(psi);
         vec3 d = vec3(c * s.dt.x + sn * s.dt.y, c * s.dt.y - sn * s.dt.x, s.dt.z);
-        sum += rp_aperture_measures(m, d);
+        vec4 measures = rp_aperture_measures(m, d);
+        sum += measures;
+        moments += measures.x * rp_aperture_moments(m, d);
     }
     if (!(sum.x > float(0.0))) return;
     // Uncoated faces: the orders' coherence at this direction.
@@ -3237,6 +3295,11 @@ void rp_diffraction_setup(in rp_material m, inout rp_incident s, float sinThetaI
     s.diffCore2 = whole.x * form.y;
     s.diffTail = whole.y * form.z;
     s.diffCoreWeight = form.x;
+    // The pattern's curvature at its peak is the apertures' second moments M / A weighted by
+    // A^2: its variance along the plane of incidence over across is M_perp / M_par, and the
+    // isotropic one is their geometric mean.
+    if (moments.x > float(0.0) && moments.y > float(0.0))
+        s.diffAniso = pow(moments.y / moments.x, RP_DIFF_ANISO_POWER);
     if (ce.x < float(1.0)) {
         float edges = ce.y / (float(1.0) - ce.x);
         vec2 orders = rp_diffraction_shape(m, peak / float(6.0),
@@ -3292,6 +3355,7 @@ void rp_incident_lobes(in rp_material m, vec3 wi, out rp_incident s) {
     s.diffCore2 = float(0.0);
     s.diffTail = float(0.0);
     s.diffCoreWeight = float(0.0);
+    s.diffAniso = float(1.0);
     s.diffOrderCore2 = float(0.0);
     s.diffOrderTail = float(0.0);
     s.geoPar2 = float(1.0);
@@ -3485,13 +3549,22 @@ float rp_retro_density(in rp_incident s, vec3 wo, vec3 wi) {
     return invCosP * invCosP * invCosP * s.retroNorm * e;
 }
 
+// A term of variances var (rad^2) of Delta s along and across the plane of incidence as alpha^2
+// in the slopes: 2 var.x / cos^2(theta_i) (Delta s along the plane of incidence is cos(theta_i)
+// times the slope) and 2 var.y, each at most RP_DIFF_MAX_WIDTH2.
+vec2 rp_diffraction_parts(in rp_incident s, vec2 var) {
+    return vec2(min(float(2.0) * var.x * s.invCosI * s.invCosI, RP_DIFF_MAX_WIDTH2),
+                min(float(2.0) * var.y, RP_DIFF_MAX_WIDTH2));
+}
+
 // The widths^2 (alphaPar^2, alphaPerp^2, as the geometric lobe's exp(-x^2 / alpha^2)) of the
-// geometric lobe convolved with a Gaussian of variance var per axis of Delta s (var in rad^2;
-// Delta s along the plane of incidence is cos(theta_i) times the slope), then stretched by the
-// ring of spots as rp_incident_lobes does, and the ring's radius in the scaled slopes (z).
-vec3 rp_diffraction_widths(in rp_incident s, float var) {
-    float a2par = s.geoPar2 + min(float(2.0) * var * s.invCosI * s.invCosI, RP_DIFF_MAX_WIDTH2);
-    float a2perp = s.geoPerp2 + min(float(2.0) * var, RP_DIFF_MAX_WIDTH2);
+// geometric lobe convolved with a Gaussian of variances var of Delta s (rp_diffraction_parts),
+// then stretched by the ring of spots as rp_incident_lobes does, and the ring's radius in the
+// scaled slopes (z).
+vec3 rp_diffraction_widths(in rp_incident s, vec2 var) {
+    vec2 parts = rp_diffraction_parts(s, var);
+    float a2par = s.geoPar2 + parts.x;
+    float a2perp = s.geoPerp2 + parts.y;
     float radius = float(0.0);
     if (s.ringPar2 + s.ringPerp2 > float(0.0)) {
         float mPar = s.ringPar2 / a2par;
@@ -3515,34 +3588,47 @@ float rp_diffraction_term(vec3 wd, float sx, float sy) {
     return norm * exp(-x);
 }
 
+// The donut's alpha^2 (x, y) and its blur's (z, w) along and across the plane of incidence for
+// the donut of variance var per axis of Delta s: the geometric lobe's, and with dihedral errors
+// the ring of spots' second moments as a Gaussian's (twice them), so that the donut goes over
+// continuously into the perfect cube's as the ring shrinks (a ring much wider than the donut
+// is then a blur, not six spots).
+vec4 rp_diffraction_donut_widths(in rp_incident s, float var) {
+    vec2 parts = rp_diffraction_parts(s, vec2(var));
+    vec2 blur = vec2(s.geoPar2, s.geoPerp2);
+    blur += float(2.0) * vec2(s.ringPar2, s.ringPerp2);
+    return vec4(parts, blur);
+}
+
 // The donut (rho^2 / 2v) G_v(rho) of variance var per axis of Delta s (the face orders' core)
-// convolved with the geometric lobe, at the slopes (sx, sy): per axis k, with A_k the donut's
-// alpha^2 and B_k the lobe's (W_k = A_k + B_k), G_W times sum_k A_k s_k^2 / W_k^2 + B_k / (2 W_k)
-// (exact: x^2 g_A / A = A dg_A/dA + g_A / 2, and dA passes through the convolution). Stretched by
-// the ring of spots, it is taken as the Gaussian of its second moments (variance 2 var).
+// convolved with its blur (rp_diffraction_donut_widths), at the slopes (sx, sy): per axis k, with
+// A_k the donut's alpha^2 and B_k the blur's (W_k = A_k + B_k), G_W times
+// sum_k A_k s_k^2 / W_k^2 + B_k / (2 W_k) (exact: x^2 g_A / A = A dg_A/dA + g_A / 2, and dA
+// passes through the convolution).
 float rp_diffraction_donut(in rp_incident s, float var, float sx, float sy) {
-    vec3 wd = rp_diffraction_widths(s, var);
-    if (wd.z > float(0.0))
-        return rp_diffraction_term(rp_diffraction_widths(s, float(2.0) * var), sx, sy);
-    float aPar = min(float(2.0) * var * s.invCosI * s.invCosI, RP_DIFF_MAX_WIDTH2);
-    float aPerp = min(float(2.0) * var, RP_DIFF_MAX_WIDTH2);
-    float x = sx * sx / wd.x + sy * sy / wd.y;
+    vec4 ab = rp_diffraction_donut_widths(s, var);
+    vec2 w = vec2(ab.x + ab.z, ab.y + ab.w);
+    float x = sx * sx / w.x + sy * sy / w.y;
     if (!(x <= RP_MAX_EXP)) return float(0.0);
-    float factor = aPar * sx * sx / (wd.x * wd.x) + float(0.5) * s.geoPar2 / wd.x +
-                  aPerp * sy * sy / (wd.y * wd.y) + float(0.5) * s.geoPerp2 / wd.y;
-    return RP_INV_PI / sqrt(wd.x * wd.y) * exp(-x) * factor;
+    float factor = ab.x * sx * sx / (w.x * w.x) + float(0.5) * ab.z / w.x +
+                  ab.y * sy * sy / (w.y * w.y) + float(0.5) * ab.w / w.y;
+    return RP_INV_PI / sqrt(w.x * w.y) * exp(-x) * factor;
 }
 
 // One share of the pattern (core variance core2 and weight coreWeight, the core a donut when
 // `donut`; tail scale tail; rp_diffraction_shape) at the slopes (sx, sy) for lambda / pitch
-// `scale`: the geometric lobe convolved with its core and each scale of its tail.
+// `scale`: the geometric lobe convolved with its core and each scale of its tail, each variance
+// `aniso` times its value along the plane of incidence and over it across.
 float rp_diffraction_share(in rp_material m, in rp_incident s, float scale, float sx,
-                                float sy, float core2, float tail, float coreWeight, bool donut) {
+                                float sy, float core2, float tail, float coreWeight, bool donut,
+                                float aniso) {
     float scale2 = scale * scale;
-    float core = donut ? rp_diffraction_donut(s, core2 * scale2, sx, sy)
-                      : rp_diffraction_term(rp_diffraction_widths(s, core2 * scale2), sx, sy);
+    vec2 stretch = vec2(aniso, float(1.0) / aniso);
+    float core =
+        donut ? rp_diffraction_donut(s, core2 * scale2, sx, sy)
+              : rp_diffraction_term(rp_diffraction_widths(s, core2 * scale2 * stretch), sx, sy);
     float sum = float(0.0);
-    float a2 = tail * tail * scale2;
+    vec2 a2 = tail * tail * scale2 * stretch;
     if (m.fidelity == RP_FIDELITY_FAST) {
         for (int j = 0; j < RP_DIFF_TAIL_N_FAST; ++j) {
             float r = rp_diff_ratio_at(2 * j);
@@ -3563,13 +3649,13 @@ float rp_diffraction_share(in rp_material m, in rp_incident s, float scale, floa
 // whole aperture's share and, when the face orders are not fully coherent, theirs.
 float rp_diffraction_channel(in rp_material m, in rp_incident s, float scale, float sx,
                                   float sy) {
-    float whole =
-        rp_diffraction_share(m, s, scale, sx, sy, s.diffCore2, s.diffTail, s.diffCoreWeight, false);
+    float whole = rp_diffraction_share(m, s, scale, sx, sy, s.diffCore2, s.diffTail,
+                                      s.diffCoreWeight, false, s.diffAniso);
     if (!(s.diffCoherent < float(1.0))) return whole;
     return s.diffCoherent * whole +
            (float(1.0) - s.diffCoherent) * rp_diffraction_share(m, s, scale, sx, sy,
                                                                s.diffOrderCore2, s.diffOrderTail,
-                                                               RP_DIFF_ORDERS.x, true);
+                                                               RP_DIFF_ORDERS.x, true, float(1.0));
 }
 
 // True when every channel has the same lambda / pitch (a `wavelength` given).
@@ -3599,14 +3685,15 @@ vec3 rp_diffraction_density(in rp_material m, in rp_incident s, vec3 wo, vec3 wi
 
 // The pattern's terms for the incident state s: the face orders' share first (term 0 its core,
 // term j > 0 scale j - 1 of its tail, every other scale in the fast tier; weight 0 when the
-// orders are fully coherent), then the whole aperture's the same way; each term's weight,
-// variance per axis in nu^2, and 1 for the donut (the orders' core), 0 for a Gaussian. The last
-// term's weight is never 0.
+// orders are fully coherent), then the whole aperture's the same way; each term's weight, its
+// variances along and across the plane of incidence in nu^2 (the whole share's s.diffAniso
+// times and over the isotropic one), and 1 for the donut (the orders' core), 0 for a Gaussian.
+// The last term's weight is never 0.
 int rp_diffraction_terms(in rp_material m) {
     return 2 * (1 + (m.fidelity == RP_FIDELITY_FAST ? RP_DIFF_TAIL_N_FAST : RP_DIFF_TAIL_N));
 }
 
-vec3 rp_diffraction_term_of(in rp_material m, in rp_incident s, int j) {
+vec4 rp_diffraction_term_of(in rp_material m, in rp_incident s, int j) {
     bool fast = m.fidelity == RP_FIDELITY_FAST;
     int perShare = 1 + (fast ? RP_DIFF_TAIL_N_FAST : RP_DIFF_TAIL_N);
     bool orders = j < perShare;
@@ -3614,16 +3701,19 @@ vec3 rp_diffraction_term_of(in rp_material m, in rp_incident s, int j) {
     float core2 = orders ? s.diffOrderCore2 : s.diffCore2;
     float tail = orders ? s.diffOrderTail : s.diffTail;
     float coreWeight = orders ? RP_DIFF_ORDERS.x : s.diffCoreWeight;
+    float aniso = orders ? float(1.0) : s.diffAniso;
+    vec2 stretch = vec2(aniso, float(1.0) / aniso);
     int k = orders ? j : j - perShare;
-    if (k == 0) return vec3(share * coreWeight, core2, orders ? float(1.0) : float(0.0));
+    if (k == 0) return vec4(share * coreWeight, core2 * stretch, orders ? float(1.0) : float(0.0));
     float w = fast ? rp_diff_weight_fast_at(k - 1) : rp_diff_weight_at(k - 1);
     float r = fast ? rp_diff_ratio_at(2 * (k - 1)) : rp_diff_ratio_at(k - 1);
-    return vec3(share * (float(1.0) - coreWeight) * w, tail * tail * r * r, float(0.0));
+    return vec4(share * (float(1.0) - coreWeight) * w, tail * tail * r * r * stretch, float(0.0));
 }
 
-// A direction of one term of the lobe, variance var per axis of Delta s (rad^2), for u1, u2
-// (its Gaussian by exact inversion) and uRing (the point of the ring of spots).
-vec3 rp_diffraction_sample_term(in rp_incident s, vec3 wi, float var, float u1, float u2,
+// A direction of one term of the lobe, variances var of Delta s along and across the plane of
+// incidence (rad^2), for u1, u2 (its Gaussian by exact inversion) and uRing (the point of the
+// ring of spots).
+vec3 rp_diffraction_sample_term(in rp_incident s, vec3 wi, vec2 var, float u1, float u2,
                                       float uRing) {
     vec3 wd = rp_diffraction_widths(s, var);
     float radius = sqrt(-log(max(float(1.0) - u1, RP_U_EPS)));
@@ -3644,23 +3734,22 @@ vec3 rp_diffraction_sample_term(in rp_incident s, vec3 wi, float var, float u1, 
 // density is a mixture of G_W (weight sum_k B_k / (2 W_k)) and, per axis k, of G_W times
 // 2 s_k^2 / W_k (weight A_k / (2 W_k)), whose s_k^2 / W_k is Gamma(3/2): the Gaussian's Gamma(1/2)
 // (u1, u2) plus an exponential variate of what is left of u3 after choosing the component.
-// Stretched by the ring of spots, the Gaussian of its second moments as there.
 vec3 rp_diffraction_sample_donut(in rp_incident s, vec3 wi, float var, float u1, float u2,
                                        float u3) {
-    vec3 wd = rp_diffraction_widths(s, var);
-    if (wd.z > float(0.0)) return rp_diffraction_sample_term(s, wi, float(2.0) * var, u1, u2, u3);
+    vec4 ab = rp_diffraction_donut_widths(s, var);
+    vec2 w = vec2(ab.x + ab.z, ab.y + ab.w);
     float radius = sqrt(-log(max(float(1.0) - u1, RP_U_EPS)));
     float phi = float(2.0) * RP_PI * u2;
-    float sx = sqrt(wd.x) * radius * cos(phi);
-    float sy = sqrt(wd.y) * radius * sin(phi);
-    float pPar = float(0.5) * min(float(2.0) * var * s.invCosI * s.invCosI, RP_DIFF_MAX_WIDTH2) / wd.x;
-    float pPerp = float(0.5) * min(float(2.0) * var, RP_DIFF_MAX_WIDTH2) / wd.y;
+    float sx = sqrt(w.x) * radius * cos(phi);
+    float sy = sqrt(w.y) * radius * sin(phi);
+    float pPar = float(0.5) * ab.x / w.x;
+    float pPerp = float(0.5) * ab.y / w.y;
     if (u3 < pPar) {
         float e = -log(max(float(1.0) - u3 / pPar, RP_U_EPS));
-        sx = (sx < float(0.0) ? float(-1.0) : float(1.0)) * sqrt(sx * sx + wd.x * e);
+        sx = (sx < float(0.0) ? float(-1.0) : float(1.0)) * sqrt(sx * sx + w.x * e);
     } else if (u3 < pPar + pPerp) {
         float e = -log(max(float(1.0) - (u3 - pPar) / pPerp, RP_U_EPS));
-        sy = (sy < float(0.0) ? float(-1.0) : float(1.0)) * sqrt(sy * sy + wd.y * e);
+        sy = (sy < float(0.0) ? float(-1.0) : float(1.0)) * sqrt(sy * sy + w.y * e);
     }
     return normalize(wi + sx * s.ePar + sy * s.ePerp);
 }
@@ -3679,7 +3768,7 @@ vec3 rp_diffraction_sample(in rp_material m, in rp_incident s, vec3 wi, float u1
         scale = m.diff_scale[ch];
     }
     int n = rp_diffraction_terms(m);
-    vec3 term = rp_diffraction_term_of(m, s, 0);
+    vec4 term = rp_diffraction_term_of(m, s, 0);
     for (int j = 0; j < 2 * (RP_DIFF_TAIL_N + 1); ++j) {
         if (j >= n) break;
         term = rp_diffraction_term_of(m, s, j);
@@ -3689,9 +3778,9 @@ vec3 rp_diffraction_sample(in rp_material m, in rp_incident s, vec3 wi, float u1
         }
         u -= term.x;
     }
-    if (term.z > float(0.0))
+    if (term.w > float(0.0))
         return rp_diffraction_sample_donut(s, wi, term.y * scale * scale, u1, u2, u);
-    return rp_diffraction_sample_term(s, wi, term.y * scale * scale, u1, u2, u);
+    return rp_diffraction_sample_term(s, wi, vec2(term.y, term.z) * (scale * scale), u1, u2, u);
 }
 
 // The reciprocal form of the retro lobe (MODEL.md section 3): E, G1(mu_t), alpha_o and the lobe
