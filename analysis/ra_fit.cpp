@@ -74,6 +74,21 @@ double log_cost(const RaMeasurements& t, const std::vector<double>& model,
     return sum / double(std::max<size_t>(model.size(), 1));
 }
 
+// search() for `objective`: the least-squares search, and for the minimax objective, whose cost
+// has corners the simplex can stall on, a second search from the least-squares inputs; cost(o)
+// is the cost under objective o of the inputs as set. Evaluations of both searches.
+NmResult search_for(std::vector<Var> vars, RaObjective objective,
+                    const std::function<double(RaObjective)>& cost) {
+    NmResult r = search(vars, [&] { return cost(RaObjective::Rms); });
+    if (objective == RaObjective::Rms) return r;
+    const int evaluations = r.evaluations;
+    for (size_t i = 0; i < vars.size(); ++i)
+        vars[i].start = r.x[i];
+    r = search(vars, [&] { return cost(RaObjective::Max); });
+    r.evaluations += evaluations;
+    return r;
+}
+
 void require_rows(const RaMeasurements& t, const std::vector<std::string>& fitted) {
     if (t.entries.size() >= fitted.size()) return;
     std::string names;
@@ -240,8 +255,7 @@ RaNodeFit fit_ra_node(const RaMeasurements& t, const Params& base,
     RaNodeFit fit;
     node_search_space(p, held, vars, choices, fit.fitted);
     require_rows(t, fit.fitted);
-    RaObjective pass = RaObjective::Rms;
-    auto cost = [&] { return log_cost(t, ra_node_values(p, t.entries), pass); };
+    auto cost = [&](RaObjective o) { return log_cost(t, ra_node_values(p, t.entries), o); };
     // Every combination of the discrete inputs, a search of the continuous ones for each.
     size_t combinations = 1;
     for (const Choice& c : choices)
@@ -256,22 +270,11 @@ RaNodeFit fit_ra_node(const RaMeasurements& t, const Params& base,
         }
         for (Var& v : vars) // every combination starts from the base values
             v.set(v.start);
-        // The least-squares search; for the minimax objective, whose cost has corners the
-        // simplex can stall on, its search then starts from the least-squares inputs.
-        pass = RaObjective::Rms;
-        NmResult r = search(vars, cost);
+        const NmResult r = search_for(vars, objective, cost);
         fit.evaluations += r.evaluations;
-        if (objective == RaObjective::Max) {
-            std::vector<Var> from = vars;
-            for (size_t i = 0; i < from.size(); ++i)
-                from[i].start = r.x[i];
-            pass = RaObjective::Max;
-            r = search(from, cost);
-            fit.evaluations += r.evaluations;
-        }
         set_all(vars, r.x, true);
         // Values that fit alike (metallized is ideal with a darker retro_color): the first.
-        const double c = cost();
+        const double c = cost(objective);
         if (c < bestCost * (1.0 - 1e-6)) {
             bestCost = c;
             best = p;
@@ -290,19 +293,12 @@ RaMrmFit fit_ra_mrm(const RaMeasurements& t, RaObjective objective) {
     vars[1] = {{1.01, 3.0, false}, m.ior, [&](double x) { m.ior = x; }};
     vars[2] = {{0.0, 1.0, false}, m.specular, [&](double x) { m.specular = x; }};
     require_rows(t, {"roughness", "ior", "specular"});
-    NmResult r =
-        search(vars, [&] { return log_cost(t, ra_mrm_values(m, t.entries), RaObjective::Rms); });
-    int evaluations = r.evaluations;
-    if (objective == RaObjective::Max) { // from the least-squares fit, as fit_ra_node
-        for (size_t i = 0; i < vars.size(); ++i)
-            vars[i].start = r.x[i];
-        r = search(vars,
-                   [&] { return log_cost(t, ra_mrm_values(m, t.entries), RaObjective::Max); });
-        evaluations += r.evaluations;
-    }
+    const NmResult r = search_for(vars, objective, [&](RaObjective o) {
+        return log_cost(t, ra_mrm_values(m, t.entries), o);
+    });
     set_all(vars, r.x, true);
     fit.model = m;
-    fit.evaluations = evaluations;
+    fit.evaluations = r.evaluations;
     fit.report = ra_fit_report(t, ra_mrm_values(m, t.entries));
     return fit;
 }

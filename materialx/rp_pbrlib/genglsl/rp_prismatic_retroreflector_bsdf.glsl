@@ -1877,9 +1877,6 @@ const vec3 RP_DIFF_ORDERS = vec3(float(0.3818), float(0.5705), float(0.5291));
 // paraxial Fraunhofer pattern stands for nothing beyond, and wider terms would put their mass at
 // the horizon of wi.
 const float RP_DIFF_MAX_WIDTH2 = float(1.0);
-// The power of M_perp / M_par (the aperture's second moments across and along the plane of
-// incidence) that gives the pattern's anisotropy (rp_diffraction_setup).
-const float RP_DIFF_ANISO_POWER = float(1.0);
 // The smallest pitch taken as given (um): below it lambda / pitch could overflow.
 const float RP_DIFF_MIN_PITCH_UM = float(0.001);
 // The least share of the pattern's peak left to its core.
@@ -3209,7 +3206,6 @@ vec2 rp_aperture_moments(in rp_material m, vec3 d) {
             float base = side == 0 ? float(0.0) : mk[k];
             float lo = max(float(0.0), float(1.0) - base - mj);
             float hi = min(mi, float(1.0) - base);
-            if (side == 0) hi = min(float(1.0), mi);
             if (!(hi > lo)) continue;
             vec2 a = base * vk + lo * vi + (float(1.0) - base - lo) * vj - od;
             vec2 b = base * vk + hi * vi + (float(1.0) - base - hi) * vj - od;
@@ -3295,11 +3291,11 @@ void rp_diffraction_setup(in rp_material m, inout rp_incident s, float sinThetaI
     s.diffCore2 = whole.x * form.y;
     s.diffTail = whole.y * form.z;
     s.diffCoreWeight = form.x;
-    // The pattern's curvature at its peak is the apertures' second moments M / A weighted by
-    // A^2: its variance along the plane of incidence over across is M_perp / M_par, and the
-    // isotropic one is their geometric mean.
-    if (moments.x > float(0.0) && moments.y > float(0.0))
-        s.diffAniso = pow(moments.y / moments.x, RP_DIFF_ANISO_POWER);
+    // The apertures' second moments M / A weighted by A^2 (the pattern's curvature at its peak):
+    // its variance along the plane of incidence over the isotropic one (their geometric mean)
+    // is M_perp / M_par, what the wave optics' R_A follows (docs/diffraction.md; the curvature
+    // alone would give its square root).
+    if (moments.x > float(0.0) && moments.y > float(0.0)) s.diffAniso = moments.y / moments.x;
     if (ce.x < float(1.0)) {
         float edges = ce.y / (float(1.0) - ce.x);
         vec2 orders = rp_diffraction_shape(m, peak / float(6.0),
