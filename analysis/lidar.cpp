@@ -5,10 +5,12 @@
 #include <memory>
 #include <string>
 
+#include "color.h"
 #include "error.h"
 #include "parallel.h"
 #include "photometry.h"
 #include "quadrature.h"
+#include "query.h"
 #include "ra_fit.h"
 #include "ra_table.h"
 #include "parse.h"
@@ -266,6 +268,24 @@ LidarReturn lidar_return(const LidarBrdf& f, const LidarSensor& sensor, const Li
     out.observation_mrad = 1e3 * std::atan2(glm::length(glm::cross(toEmitter, toAperture)),
                                             glm::dot(toEmitter, toAperture));
     return out;
+}
+
+LidarMaterial lidar_material(const std::string& arg) {
+    const std::size_t eq = arg.find('=');
+    const std::string path = eq == std::string::npos ? arg : arg.substr(eq + 1);
+    LidarMaterial m;
+    m.label = eq == std::string::npos ? path : arg.substr(0, eq);
+    const auto ends = [&](const std::string& ext) {
+        return path.size() >= ext.size() &&
+               path.compare(path.size() - ext.size(), ext.size(), ext) == 0;
+    };
+    if (ends(".json"))
+        m.params = params_from_json(read_json(path), path);
+    else if (ends(".mtlx"))
+        m.params = document_params(path, "");
+    else
+        throw InputError(arg + ": expected a material FILE.json or a MaterialX document DOC.mtlx");
+    return m;
 }
 
 std::vector<LidarRow> lidar_sweep(const std::vector<LidarMaterial>& materials,

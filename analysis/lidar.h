@@ -150,6 +150,11 @@ struct LidarMaterial {
     Params params;
 };
 
+// `retroprism lidar`'s material argument "[LABEL=]FILE.json|DOC.mtlx": a material file's inputs
+// or a MaterialX document's first material, labelled LABEL or the file's path; InputError `<arg>:
+// expected a material FILE.json or a MaterialX document DOC.mtlx` for another file name.
+LidarMaterial lidar_material(const std::string& arg);
+
 // One row of a sweep: a material at a wavelength, range and entrance angle (the other inputs
 // the sweep's sensor and target), with the Lambertian target of the same albedo beside it.
 struct LidarRow {

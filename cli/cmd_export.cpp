@@ -119,14 +119,8 @@ int export_openmaterial(OIIO::ArgParse& ap, const fs::path& dir) {
         p = document_params(document, ap["material"].get<std::string>(), &e.name);
     }
     if (!ap["name"].get<std::string>().empty()) e.name = ap["name"].get<std::string>();
-    e.wavelengths_nm.clear();
-    std::string list = ap["wavelength"].get<std::string>();
-    for (std::size_t at = 0; at <= list.size();) {
-        const std::size_t comma = std::min(list.find(',', at), list.size());
-        e.wavelengths_nm.push_back(
-            parse_number_in(list.substr(at, comma - at), "--wavelength", 1e-9, 2000));
-        at = comma + 1;
-    }
+    e.wavelengths_nm =
+        parse_number_list(ap["wavelength"].get<std::string>(), "--wavelength", 1e-9, 2000);
     const std::string channel = ap["channel"].get<std::string>();
     e.channel = channel == "r" ? 0 : channel == "g" ? 1 : channel == "b" ? 2 : -1;
     if (e.channel < 0) throw InputError("--channel " + channel + ": expected r, g or b");

@@ -2,57 +2,19 @@
 // (analysis/lidar.h: geometry, radiometry, assumptions), against range, entrance angle and
 // wavelength, beside a Lambertian target of the same albedo; a table, CSV and a figure.
 #include <cstdio>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include <OpenImageIO/argparse.h>
 
-#include "color.h"
 #include "commands.h"
 #include "error.h"
 #include "figure.h"
 #include "lidar.h"
 #include "lidar_report.h"
 #include "parse.h"
-#include "query.h"
 
 namespace retroprism {
-
-namespace {
-
-// Comma-separated numbers, each through the number parser.
-std::vector<double> parse_list(const std::string& text, const std::string& what) {
-    std::vector<double> v;
-    std::stringstream ss(text);
-    std::string item;
-    while (std::getline(ss, item, ','))
-        v.push_back(parse_number(item, what + " " + text + ":"));
-    if (v.empty()) throw InputError(what + ": expected comma-separated numbers");
-    return v;
-}
-
-// "[LABEL=]FILE.json|DOC.mtlx": a material file's inputs (a document's first material), labelled
-// by LABEL or the file's name.
-LidarMaterial read_material(const std::string& arg) {
-    const std::size_t eq = arg.find('=');
-    const std::string path = eq == std::string::npos ? arg : arg.substr(eq + 1);
-    LidarMaterial m;
-    m.label = eq == std::string::npos ? path : arg.substr(0, eq);
-    const auto ends = [&](const std::string& ext) {
-        return path.size() >= ext.size() &&
-               path.compare(path.size() - ext.size(), ext.size(), ext) == 0;
-    };
-    if (ends(".json"))
-        m.params = params_from_json(read_json(path), path);
-    else if (ends(".mtlx"))
-        m.params = document_params(path, "");
-    else
-        throw InputError(arg + ": expected a material FILE.json or a MaterialX document DOC.mtlx");
-    return m;
-}
-
-} // namespace
 
 int cmd_lidar(int argc, const char** argv) {
     OIIO::ArgParse ap;
@@ -104,16 +66,17 @@ int cmd_lidar(int argc, const char** argv) {
         throw InputError("--baseline prints a text table beside the materials': not with --csv");
     std::vector<LidarMaterial> materials;
     for (const std::string& f : files)
-        materials.push_back(read_material(f));
+        materials.push_back(lidar_material(f));
     if (materials.empty()) materials.push_back({"default material", Params()});
     LidarSensor sensor;
-    const std::vector<double> offset = parse_list(ap["offset"].get<std::string>(), "--offset");
+    const std::vector<double> offset =
+        parse_number_list(ap["offset"].get<std::string>(), "--offset");
     if (offset.size() != 3) throw InputError("--offset: expected X,Y,Z in m");
     sensor.receiver_offset = glm::dvec3(offset[0], offset[1], offset[2]);
     sensor.divergence_mrad = parse_number(ap["divergence"].get<std::string>(), "--divergence");
     sensor.aperture_m = parse_number(ap["aperture"].get<std::string>(), "--aperture");
     LidarTarget target;
-    const std::vector<double> size = parse_list(ap["size"].get<std::string>(), "--size");
+    const std::vector<double> size = parse_number_list(ap["size"].get<std::string>(), "--size");
     if (size.size() != 2) throw InputError("--size: expected W,H in m");
     target.width_m = size[0];
     target.height_m = size[1];
@@ -121,10 +84,11 @@ int cmd_lidar(int argc, const char** argv) {
     const std::string channel = ap["channel"].get<std::string>();
     const int c = channel == "r" ? 0 : channel == "g" ? 1 : channel == "b" ? 2 : -1;
     if (c < 0) throw InputError("--channel " + channel + ": expected r, g or b");
-    const std::vector<LidarRow> rows = lidar_sweep(
-        materials, sensor, target, parse_list(ap["wavelength"].get<std::string>(), "--wavelength"),
-        parse_list(ap["range"].get<std::string>(), "--range"),
-        parse_list(ap["entrance"].get<std::string>(), "--entrance"), c);
+    const std::vector<LidarRow> rows =
+        lidar_sweep(materials, sensor, target,
+                    parse_number_list(ap["wavelength"].get<std::string>(), "--wavelength"),
+                    parse_number_list(ap["range"].get<std::string>(), "--range"),
+                    parse_number_list(ap["entrance"].get<std::string>(), "--entrance"), c);
 
     const std::string setup =
         "receiver offset (" + plot::fmt("%g", offset[0]) + plot::fmt(", %g", offset[1]) +

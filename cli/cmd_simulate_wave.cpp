@@ -1,5 +1,6 @@
 // cmd_simulate_wave.cpp: `retroprism simulate --wave`, the physical-optics ground truth of the
-// retro lobe (sim/wave_optics.h, docs/wave_optics.md) as a table of R_A against observation angle.
+// retro lobe (sim/wave_optics.h, docs/wave_optics.md) as a table of R_A against observation angle;
+// with --against-node the node's lobe beside it (sim/wave_node.h), as a table and a figure.
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -8,26 +9,16 @@
 
 #include "commands.h"
 #include "error.h"
+#include "figure.h"
 #include "parse.h"
 #include "query.h"
+#include "wave_node.h"
 #include "wave_optics.h"
+#include "wave_report.h"
 
 namespace retroprism {
 
 namespace {
-
-// A comma-separated list of numbers in [lo, hi] (option `what`).
-std::vector<double> number_list(const std::string& text, const std::string& what, double lo,
-                                double hi) {
-    std::vector<double> list;
-    size_t start = 0;
-    while (start <= text.size()) {
-        const size_t comma = std::min(text.find(',', start), text.size());
-        list.push_back(parse_number_in(text.substr(start, comma - start), what, lo, hi));
-        start = comma + 1;
-    }
-    return list;
-}
 
 sim::wave::WaveMode mode_option(const Params& p, OIIO::ArgParse& ap) {
     sim::wave::WaveMode mode = sim::wave::wave_mode(p);
@@ -41,7 +32,8 @@ sim::wave::WaveMode mode_option(const Params& p, OIIO::ArgParse& ap) {
     else if (!era.empty())
         throw InputError("--era " + era + ": expected averaged, matched_pair or oriented");
     const std::string rotations = ap["rotation"].get<std::string>();
-    if (!rotations.empty()) mode.rotations_deg = number_list(rotations, "--rotation", -360, 360);
+    if (!rotations.empty())
+        mode.rotations_deg = parse_number_list(rotations, "--rotation", -360, 360);
     mode.coplanar = ap["coplanar"].get<int>() != 0;
     mode.pitch_spread =
         parse_number_in(ap["pitch_spread"].get<std::string>(), "--pitch-spread", 0, 0.5);
@@ -59,7 +51,8 @@ int simulate_wave_command(int argc, const char** argv) {
              "coplanar observation of `retroprism ra`).")
         .usage("retroprism simulate --wave [--material FILE.json] [--pitch UM] [--entrance "
                "DEG,...] [--observation DEG,...] [--wavelength NM,... | --photopic] [--era MODE] "
-               "[--rotation DEG,...] [--pitch-spread S] [--coplanar]");
+               "[--rotation DEG,...] [--pitch-spread S] [--coplanar] [--against-node [--plot "
+               "FILE.png]]");
     ap.arg("--wave").help("the physical-optics R_A table").store_true();
     ap.arg("--material FILE").help("node inputs as a JSON object (default: all defaults)");
     ap.arg("--pitch UM")
@@ -90,6 +83,12 @@ int simulate_wave_command(int argc, const char** argv) {
     ap.arg("--coplanar")
         .help("the coplanar observation of `retroprism ra` instead of the azimuth mean")
         .store_true();
+    ap.arg("--against-node")
+        .dest("against_node")
+        .help("the node's R_A (smooth, the retro lobe alone) beside the wave optics' and their "
+              "ratio, at the material's era_mode (docs/diffraction.md)")
+        .store_true();
+    ap.arg("--plot FILE").help("with --against-node: R_A against observation 0.05-3 deg (PNG)");
     int status = 0;
     if (!parse_command_args(ap, argc, argv, status)) return status;
     Params p;
@@ -100,33 +99,46 @@ int simulate_wave_command(int argc, const char** argv) {
     sim::wave::check_material(m);
     const sim::wave::WaveMode mode = mode_option(p, ap);
     const std::vector<double> entrance =
-        number_list(ap["entrance"].get<std::string>(), "--entrance", -85, 85);
+        parse_number_list(ap["entrance"].get<std::string>(), "--entrance", -85, 85);
     const std::vector<double> obs =
-        number_list(ap["observation"].get<std::string>(), "--observation", 1e-9, 20);
+        parse_number_list(ap["observation"].get<std::string>(), "--observation", 1e-9, 20);
     const bool photopic = ap["photopic"].get<int>() != 0;
     const std::vector<double> lambdas =
-        photopic ? std::vector<double>{0.0}
-                 : number_list(ap["wavelength"].get<std::string>(), "--wavelength", 200, 20000);
-    std::printf("# wave R_A (sr^-1): ior %g, prism_reflection %d, cant %g deg, dihedral %g', "
-                "pitch %g um\n",
-                m.ior, m.prism_reflection, m.cant_deg, m.dihedral_arcmin, m.pitch_um);
-    for (double lambda : lambdas) {
-        std::vector<std::vector<double>> columns;
+        photopic
+            ? std::vector<double>{0.0}
+            : parse_number_list(ap["wavelength"].get<std::string>(), "--wavelength", 200, 20000);
+    const std::string plotPath = ap["plot"].get<std::string>();
+    if (ap["against_node"].get<int>() != 0) {
+        if (photopic || mode.coplanar || !ap["era"].get<std::string>().empty() ||
+            !ap["rotation"].get<std::string>().empty())
+            throw InputError("--against-node: at --wavelength, the azimuth mean, the material's "
+                             "era_mode (no --photopic, --coplanar, --era or --rotation)");
+        std::vector<sim::wave::NodeWaveCase> cases;
         for (double e : entrance)
-            columns.push_back(photopic ? sim::wave::wave_ra_profile_photometric(m, e, obs, mode)
-                                       : sim::wave::wave_ra_profile(m, e, obs, lambda, mode));
-        std::printf(photopic ? "# photopic (illuminant A x V)\n" : "# %g nm\n", lambda);
-        std::printf("%12s", "obs\\entr");
-        for (double e : entrance)
-            std::printf(" %11g", e);
-        std::printf("\n");
-        for (size_t a = 0; a < obs.size(); ++a) {
-            std::printf("%12g", obs[a]);
-            for (const std::vector<double>& c : columns)
-                std::printf(" %11.5g", c[a]);
-            std::printf("\n");
-        }
+            for (double nm : lambdas)
+                cases.push_back({p.prism_reflection, pitch, nm, e});
+        print_node_wave(p, sim::wave::node_wave_profiles(p, cases, obs, mode.pitch_spread), obs,
+                        mode.pitch_spread, stdout);
+        if (plotPath.empty()) return 0;
+        plot::Text text("retroprism simulate");
+        plot::write_png(plot::node_wave_figure(
+                            p,
+                            sim::wave::node_wave_profiles(
+                                p, cases, plot::node_wave_plot_observations(), mode.pitch_spread),
+                            mode.pitch_spread, text),
+                        plotPath);
+        std::printf("wrote %s\n", plotPath.c_str());
+        return 0;
     }
+    if (!plotPath.empty()) throw InputError("--plot: only with --against-node");
+    std::vector<std::vector<std::vector<double>>> ra; // [wavelength][entrance][observation]
+    for (double lambda : lambdas) {
+        ra.emplace_back();
+        for (double e : entrance)
+            ra.back().push_back(photopic ? sim::wave::wave_ra_profile_photometric(m, e, obs, mode)
+                                         : sim::wave::wave_ra_profile(m, e, obs, lambda, mode));
+    }
+    print_wave_table(m, lambdas, entrance, obs, ra, stdout);
     return 0;
 }
 

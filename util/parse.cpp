@@ -1,5 +1,6 @@
 #include "parse.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -33,6 +34,21 @@ double parse_number_in(const std::string& text, const std::string& what, double 
         throw InputError(what + " " + text + ": expected a number in [" + number_text(lo) + ", " +
                          number_text(hi) + "]");
     return *v;
+}
+
+std::vector<double> parse_number_list(const std::string& text, const std::string& what, double lo,
+                                      double hi) {
+    const bool one = text.find(',') == std::string::npos;
+    const std::string where = one ? what : what + " " + text + ":";
+    const bool any = std::isinf(lo) && std::isinf(hi);
+    std::vector<double> list;
+    for (size_t start = 0; start <= text.size();) {
+        const size_t comma = std::min(text.find(',', start), text.size());
+        const std::string item = text.substr(start, comma - start);
+        list.push_back(any ? parse_number(item, where) : parse_number_in(item, where, lo, hi));
+        start = comma + 1;
+    }
+    return list;
 }
 
 std::uint64_t parse_count(const std::string& text, const std::string& what, double lo, double hi) {

@@ -22,6 +22,7 @@
 #include "ra_fit.h"
 #include "ra_table.h"
 #include "test_support.h"
+#include "wave_node.h"
 
 using namespace retroprism;
 using nlohmann::json;
@@ -427,4 +428,56 @@ TEST_CASE("fit --ra --baseline-only fits the GGX baseline alone; options of the 
     fs::remove(table);
     fs::remove(zero);
     fs::remove(empty);
+}
+
+TEST_CASE("simulate --wave --against-node prints the library's comparison and plots it, or "
+          "refuses bad input naming it",
+          "[cli]") {
+    // One cheap case (ideal faces, pitch 100 um, 1550 nm): the rows are sim/wave_node.h's values.
+    const std::vector<double> obs = {0.2, 1.0};
+    const std::vector<sim::wave::NodeWaveProfile> truth =
+        sim::wave::node_wave_profiles(Params(), {{0, 100.0, 1550.0, -4.0}}, obs, 0.15);
+    const fs::path png = temp_path("node_wave.png");
+    fs::remove(png);
+    const std::string args = "simulate --wave --against-node --pitch 100 --pitch-spread 0.15 "
+                             "--wavelength 1550 --entrance -4 --plot " +
+                             png.string();
+    const Run good = run(args + " --observation 0.2,1");
+    INFO(good.output);
+    REQUIRE(good.status == 0);
+    char row[96];
+    std::snprintf(row, sizeof row, "%12g %12.5g %12.5g", obs[1], truth[0].node[1],
+                  truth[0].wave[1]);
+    CHECK(contains(good.output, row));
+    CHECK(contains(good.output, "# ideal, pitch 100 um, 1550 nm, entrance -4 deg"));
+    CHECK(contains(good.output, "entries within 10%"));
+    CHECK(contains(good.output, "wrote " + png.string()));
+    char signature[8] = {};
+    std::ifstream(png, std::ios::binary).read(signature, 8);
+    CHECK(std::string(signature, 8) == std::string("\x89PNG\r\n\x1a\n", 8));
+    fs::remove(png);
+    // Bad input: exit status 1, the message naming the option or parameter and its range, no
+    // table and no plot.
+    struct Bad {
+        const char* args;
+        const char* message;
+    };
+    for (const Bad& b :
+         {Bad{"--pitch 5000", "pitch 5000: expected a number in [1, 2000] um"},
+          Bad{"--wavelength 2500", "wavelength 2500: expected a number in [200, 2000] nm"},
+          Bad{"--observation 0.2,x", "--observation 0.2,x: x: expected a number in [1e-09, 20]"},
+          Bad{"--photopic", "--against-node: at --wavelength"},
+          Bad{"--era oriented", "no --photopic, --coplanar, --era or --rotation"},
+          Bad{"--pitch-spread 0.6", "--pitch-spread 0.6: expected a number in "
+                                    "[0, 0.5]"}}) {
+        const Run r = run(args + " " + b.args);
+        INFO(b.args << ": " << r.output);
+        CHECK(r.status == 1);
+        CHECK(contains(r.output, b.message));
+        CHECK_FALSE(contains(r.output, "node/wave"));
+        CHECK_FALSE(fs::exists(png));
+    }
+    const Run alone = run("simulate --wave --plot " + png.string());
+    CHECK(alone.status == 1);
+    CHECK(contains(alone.output, "--plot: only with --against-node"));
 }

@@ -65,6 +65,19 @@ TEST_CASE("range and count errors say the allowed range", "[util]") {
           "--rays 0: expected a whole number in [1, 10]");
 }
 
+TEST_CASE("a list of numbers: each item through the parser, the bad one named", "[util]") {
+    CHECK(parse_number_list("0.1,-2,3e2", "--range") == std::vector<double>{0.1, -2, 300});
+    CHECK(parse_number_list("5", "--width", 0, 10) == std::vector<double>{5});
+    CHECK(error_of([] { parse_number_list("2,x", "--range"); }) ==
+          "--range 2,x: x: expected a finite number");
+    CHECK(error_of([] { parse_number_list("1,,3", "--range"); }) ==
+          "--range 1,,3: : expected a finite number");
+    CHECK(error_of([] { parse_number_list("0.2,30", "--observation", 0, 20); }) ==
+          "--observation 0.2,30: 30: expected a number in [0, 20]");
+    CHECK(error_of([] { parse_number_list("30", "--observation", 0, 20); }) ==
+          "--observation 30: expected a number in [0, 20]");
+}
+
 TEST_CASE("Rng: one stream per (seed, stream), uniform in [0, 1)", "[util]") {
     Rng a(7, 3), b(7, 3), c(7, 4), d(8, 3);
     bool differsStream = false, differsSeed = false;
