@@ -8,6 +8,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "minimize.h"
 #include "prismatic_retroreflector.h"
 
 namespace retroprism::glsl {
@@ -34,6 +35,9 @@ constexpr double kTirWeightHi = 1.65;
 // for 0.0005 more RMS error.
 constexpr double kTirRidge = 1e-4;
 constexpr int kHitsDegree = 10;
+// The ERA below which the diffraction lobes' growth A(0) / A stops (grazing incidence): by then
+// the lobes' widths are at their clamp of 1.
+constexpr double kMinGrowthArea = 1e-3;
 
 // Least squares min |A x - b| by Householder QR (rows >= columns, A of full column rank).
 std::vector<double> least_squares(std::vector<std::vector<double>> a, std::vector<double> b) {
@@ -308,6 +312,92 @@ RetroLobeFit search_retro_lobe() {
 const RetroLobeFit& fit_retro_lobe() {
     static const RetroLobeFit fit = search_retro_lobe();
     return fit;
+}
+
+namespace {
+
+// The node's diffraction density of nu at normal incidence, azimuth-averaged (48 azimuths), for
+// prisms with faces `prismReflection`: lambda / pitch = 1e-3 rad, the geometric lobe of a
+// roughness 1e-6 (its width 1e-4 of the pattern's).
+std::vector<double> node_diffraction_profile(int prismReflection, const std::vector<double>& nu) {
+    Params p;
+    p.roughness = 1e-6;
+    p.prism_reflection = prismReflection;
+    p.prism_pitch = 1000.0;
+    p.wavelength = 1000.0;
+    const f64::rp_material m = prepare_material(sanitize(p));
+    f64::rp_incident s;
+    f64::rp_incident_setup(m, f64::vec3(0, 0, 1), s);
+    const double scale = m.diff_scale.x;
+    std::vector<double> density;
+    for (double x : nu) {
+        double sum = 0;
+        const int n = 48;
+        for (int j = 0; j < n; ++j) {
+            const double phi = 2 * M_PI * (j + 0.5) / n;
+            sum += f64::rp_diffraction_channel(m, s, scale, x * scale * std::cos(phi),
+                                               x * scale * std::sin(phi));
+        }
+        density.push_back(sum / n * scale * scale);
+    }
+    return density;
+}
+
+// The density of nu of a GGX lobe about V of width b (in nu) as fit_retro_lobe maps widths:
+// b^2 / (pi (b^2 + nu^2)^2).
+double ggx_density(double b, double nu) {
+    const double q = b * b + nu * nu;
+    return b * b / (M_PI * q * q);
+}
+
+DiffractionLobesFit search_diffraction_lobes(int prismReflection) {
+    std::vector<double> nu;
+    const int points = 61;
+    for (int i = 0; i < points; ++i)
+        nu.push_back(kDiffractionFitLo *
+                     std::pow(kDiffractionFitHi / kDiffractionFitLo, double(i) / (points - 1)));
+    const std::vector<double> target = node_diffraction_profile(prismReflection, nu);
+    // Coordinates: ln of the two weights (fit_retro_lobe's scale included) and of the two
+    // widths in nu; the objective is the largest |ln(fit / node)|.
+    auto worst = [&](const std::vector<double>& x) {
+        double e = 0;
+        for (size_t i = 0; i < nu.size(); ++i) {
+            double f = 0;
+            for (int k = 0; k < kDiffractionLobes; ++k)
+                f += std::exp(x[k]) * ggx_density(std::exp(x[kDiffractionLobes + k]), nu[i]);
+            e = std::max(e, std::abs(std::log(f / target[i])));
+        }
+        return e;
+    };
+    // Starts: the core near the node's, the tail ten times wider and a tenth as strong.
+    NmResult best;
+    for (double tail : {0.03, 0.1, 0.3})
+        for (double wide : {5.0, 12.0, 30.0}) {
+            NmResult r = nelder_mead(
+                worst, {std::log(1 - tail), std::log(tail), 0.0, std::log(wide)}, 0.3, 4000);
+            for (int restart = 0; restart < 4; ++restart) {
+                const NmResult again = nelder_mead(worst, r.x, 0.1, 4000);
+                if (!(again.f < r.f)) break;
+                r = again;
+            }
+            if (r.f < best.f) best = r;
+        }
+    DiffractionLobesFit fit;
+    const RetroLobeFit& lobe = fit_retro_lobe();
+    for (int k = 0; k < kDiffractionLobes; ++k) {
+        fit.weight[k] = std::exp(best.x[k]) / lobe.scale;
+        fit.sigma[k] = std::exp(best.x[kDiffractionLobes + k]) / lobe.width;
+    }
+    fit.max_error = best.f;
+    return fit;
+}
+
+} // namespace
+
+const DiffractionLobesFit& fit_diffraction_lobes(int prismReflection) {
+    static const DiffractionLobesFit fits[3] = {
+        search_diffraction_lobes(0), search_diffraction_lobes(1), search_diffraction_lobes(2)};
+    return fits[std::clamp(prismReflection, 0, 2)];
 }
 
 namespace {
@@ -609,23 +699,14 @@ Val dispersed_ior(Graph& g) {
     return g.if_ge(Graph::f(0), abbe, nD, g.if_ge(Graph::f(0), nm, nD, n));
 }
 
-// The variance per axis of the diffraction pattern's core for lambda / pitch = 1 (rad^2): the
-// node's (prism_core.inc's rp_diffraction_setup) for ideal prisms, averaged, at normal incidence.
-double diffraction_core_variance() {
-    Params p;
-    p.prism_pitch = 1.0;
-    p.wavelength = 1000.0;
-    const f64::rp_material m = prepare_material(sanitize(p));
-    f64::rp_incident s;
-    f64::rp_incident_setup(m, f64::vec3(0, 0, 1), s);
-    return s.diffCore2;
-}
-
 // The retro lobe: GGX about V of the model's widths at V (MODEL.md section 3; isotropic
 // alpha_o, or alpha_par along the plane of incidence and alpha_perp across it for retro_lobe
 // anisotropic), widened by the random dihedral errors, each mapped to GGX by fit_retro_lobe, of
-// colour retro_color `weight` scale.
-Val retro_lobe(Graph& g, const Sheet& s, const Val& alpha, const Val& c, const Val& weight) {
+// colour retro_color `weight` scale; with a prism pitch, kDiffractionLobes such lobes, each
+// widened by its share of the diffraction pattern (fit_diffraction_lobes), the pattern's widths
+// grown by `growth` = A(0) / A.
+Val retro_lobe(Graph& g, const Sheet& s, const Val& alpha, const Val& c, const Val& weight,
+               const Val& growth) {
     const double minAlpha = f64::RP_MIN_ALPHA;
     g.comment(
         "Retro lobe: GGX about V; alpha_perp = sqrt2 alpha (eta^2 - 1) / (eta cos_t + cos_v), "
@@ -641,23 +722,21 @@ Val retro_lobe(Graph& g, const Sheet& s, const Val& alpha, const Val& c, const V
     Val var8 = g.mul(g.mul(sigma, sigma), Graph::f(8));
     Val magPar = g.div(s.gEta, c);
     g.comment(
-        "Diffraction at the prisms (prism_pitch in um, 0: none) adds twice the pattern's "
-        "core variance, k (lambda / pitch)^2 at `wavelength` (550 nm when 0), to each width's "
-        "square, divided by cos_v^2 along the plane of incidence and by cos_v for the "
-        "isotropic width (docs/diffraction.md)");
+        "Diffraction at the prisms (prism_pitch in um, 0: none): lobe k adds sigma_k^2 (lambda / "
+        "pitch)^2 A(0) / A at `wavelength` (550 nm when 0) to each width's square, divided by "
+        "cos_v^2 along the plane of incidence and by cos_v for the isotropic width, and has "
+        "weight w_k, both fitted per prism_reflection to the node's pattern at normal incidence "
+        "(docs/portable.md); without a pitch one lobe of weight 1");
     Val pitch = float_input(g, "prism_pitch");
     Val nm = float_input(g, "wavelength");
     Val lam = g.if_ge(Graph::f(0), nm, Graph::f(0.55),
                       g.mul(g.max(nm, Graph::f(f64::RP_MIN_WAVELENGTH_NM)), Graph::f(0.001)));
     Val ratio = g.if_ge(Graph::f(0), pitch, Graph::f(0),
                         g.div(lam, g.max(pitch, Graph::f(f64::RP_DIFF_MIN_PITCH_UM))));
-    Val var2 = g.mul(g.mul(ratio, ratio), Graph::f(2 * diffraction_core_variance()));
+    Val ratio2 = g.mul(g.mul(ratio, ratio), growth);
     auto widenAll = [&](const Val& width, const Val& mag2, const Val& diff2) {
         return g.sqrt(g.add(g.add(g.mul(width, width), g.mul(var8, mag2)), diff2));
     };
-    Val isoW = widenAll(iso, g.div(g.mul(s.eta, s.gEta), c), g.div(var2, c));
-    Val parW = widenAll(par, g.mul(magPar, magPar), g.div(var2, g.mul(c, c)));
-    Val perpW = widenAll(perp, s.eta2, var2);
     Val lobe = g.input("retro_lobe", "integer");
     auto ggx = [&](const Val& width, const Val& isotropic) {
         Val w = choose_enum(g, lobe, 1, width, isotropic);
@@ -671,15 +750,50 @@ Val retro_lobe(Graph& g, const Sheet& s, const Val& alpha, const Val& c, const V
                           g.node("normalize", "vector3", {{"in", inPlane}}));
     Val tint =
         g.mul(color_input(g, "retro_color"), g.mul(weight, Graph::f(fit_retro_lobe().scale)));
-    return g.node("generalized_schlick_bsdf", "BSDF",
-                  {{"color0", tint},
-                   {"color82", tint},
-                   {"color90", tint},
-                   {"roughness", g.node("combine2", "vector2",
-                                        {{"in1", ggx(parW, isoW)}, {"in2", ggx(perpW, isoW)}})},
-                   {"normal", s.v},
-                   {"tangent", tangent},
-                   {"scatter_mode", {"string", "value", "R"}}});
+    auto perPrism = [&](auto value) {
+        return choose_enum(g, s.prism, 1, Graph::f(value(fit_diffraction_lobes(1))),
+                           choose_enum(g, s.prism, 2, Graph::f(value(fit_diffraction_lobes(2))),
+                                       Graph::f(value(fit_diffraction_lobes(0)))));
+    };
+    Val sum;
+    for (int k = 0; k < kDiffractionLobes; ++k) {
+        Val sigma2 =
+            perPrism([k](const DiffractionLobesFit& f) { return f.sigma[k] * f.sigma[k]; });
+        Val var2 = g.mul(ratio2, sigma2);
+        Val isoW = widenAll(iso, g.div(g.mul(s.eta, s.gEta), c), g.div(var2, c));
+        Val parW = widenAll(par, g.mul(magPar, magPar), g.div(var2, g.mul(c, c)));
+        Val perpW = widenAll(perp, s.eta2, var2);
+        Val share = g.if_ge(Graph::f(0), pitch, Graph::f(k == 0 ? 1.0 : 0.0),
+                            perPrism([k](const DiffractionLobesFit& f) { return f.weight[k]; }));
+        Val bsdf =
+            g.node("generalized_schlick_bsdf", "BSDF",
+                   {{"weight", share},
+                    {"color0", tint},
+                    {"color82", tint},
+                    {"color90", tint},
+                    {"roughness", g.node("combine2", "vector2",
+                                         {{"in1", ggx(parW, isoW)}, {"in2", ggx(perpW, isoW)}})},
+                    {"normal", s.v},
+                    {"tangent", tangent},
+                    {"scatter_mode", {"string", "value", "R"}}});
+        sum = k == 0 ? bsdf : g.add(sum, bsdf);
+    }
+    return sum;
+}
+
+// The diffraction lobes' fits for the graph's header comment.
+std::string diffraction_fits_text() {
+    const char* names[3] = {"ideal", "tir", "metallized"};
+    std::string text;
+    for (int prism = 0; prism < 3; ++prism) {
+        const DiffractionLobesFit& f = fit_diffraction_lobes(prism);
+        text += std::string(prism ? ";\n       " : "") + names[prism] +
+                " prisms: GGX lobes of weights " + num(f.weight[0]) + ", " + num(f.weight[1]) +
+                " and widths " + num(f.sigma[0]) + ", " + num(f.sigma[1]) +
+                " lambda / pitch, largest error in ln " + num(f.max_error) + " over nu " +
+                num(kDiffractionFitLo) + "-" + num(kDiffractionFitHi);
+    }
+    return text;
 }
 
 } // namespace
@@ -761,7 +875,12 @@ std::string generate_portable_nodegraph() {
                           {"roughness", alpha2},
                           {"normal", n},
                           {"scatter_mode", {"string", "value", "R"}}});
-    Val retro = retro_lobe(g, sheet, alpha, c, g.mul(weight, g.mul(era, trans2)));
+    g.comment(
+        "The diffraction pattern's growth off normal incidence: A(0) / A, A the ideal prisms' "
+        "averaged ERA (the aperture's area)");
+    Val area0 = g.clamp(g.poly(fit_era().coef, Graph::f(-1), cant), 0, 1);
+    Val growth = g.div(area0, g.max(area, Graph::f(kMinGrowthArea)));
+    Val retro = retro_lobe(g, sheet, alpha, c, g.mul(weight, g.mul(era, trans2)), growth);
     g.comment("Diffuse lobe: Lambert of k_d T^2 passed / (eta^2 (1 - k_d F_dr(eta))), passed = 1 - "
               "E (metallized: R P1 + R^2 P2)");
     Val kd = color_input(g, "diffuse_color");
@@ -802,7 +921,8 @@ std::string generate_portable_nodegraph() {
            std::to_string(kFdrDegree) + ", largest error " + num(d.max_error) +
            "; retro lobe: GGX of width " + num(r.width) + " alpha_o / 2, scale " + num(r.scale) +
            ",\n       largest relative error " + num(r.max_error) +
-           " within 1/e of the peak. -->\n"
+           " within 1/e of the peak;\n       diffraction: " + diffraction_fits_text() +
+           ". -->\n"
            "  <nodegraph name=\"NG_rp_prismatic_retroreflector_bsdf\" "
            "nodedef=\"ND_rp_prismatic_retroreflector_bsdf\">\n" +
            g.xml() + "    <output name=\"out\" type=\"BSDF\" nodename=\"" + sum.text +

@@ -12,7 +12,8 @@
 //            alpha_o / 2 (a reflected direction spreads twice as wide as the half vector), with
 //            alpha_o the model's isotropic width at V (retro_lobe anisotropic: alpha_par along
 //            the lobe's tangent in the plane of incidence, alpha_perp across) and the Beckmann
-//            shape fitted by one GGX lobe (fit_retro_lobe);
+//            shape fitted by one GGX lobe (fit_retro_lobe); with a prism pitch two such lobes
+//            sharing the diffraction pattern (fit_diffraction_lobes);
 //   diffuse  oren_nayar_diffuse_bsdf (roughness 0: Lambert) of colour
 //            k_d T(cos_v)^2 (1 - E) / (eta^2 (1 - k_d F_dr(eta))).
 // With era_mode averaged, E is the azimuth-averaged ERA of ideal prisms as a polynomial in
@@ -85,6 +86,27 @@ struct RetroLobeFit {
 };
 constexpr double kRetroFitRange = 1.0;
 const RetroLobeFit& fit_retro_lobe();
+
+// Diffraction (prism_pitch > 0): the node's pattern of the prisms (rp_diffraction_channel) at
+// normal incidence, azimuth-averaged, as a density of nu = theta' pitch / lambda, fitted by
+// kDiffractionLobes GGX lobes about V: lobe k of the geometric lobe's tint times `weight[k]`
+// (fit_retro_lobe's scale included) whose widths add sigma[k]^2 (lambda / pitch)^2 to the
+// geometric lobe's squared widths as the node's Gaussian terms add their variances (divided by
+// cos_v^2 along the plane of incidence), the smallest largest relative error over nu in
+// [kDiffractionFitLo, kDiffractionFitHi] (the R_A tables' 0.2-2 degrees for pitches of 50-300
+// um in the visible and the near infrared). One fit per kind of prism face (prism_reflection
+// 0-2); off normal incidence the graph widens the lobes by the aperture's shrinking,
+// A(0) / A with A the ideal prisms' ERA (fit_era): the pattern's solid angle is lambda^2 over
+// the aperture's area.
+constexpr int kDiffractionLobes = 2;
+constexpr double kDiffractionFitLo = 0.1;
+constexpr double kDiffractionFitHi = 12.0;
+struct DiffractionLobesFit {
+    double weight[kDiffractionLobes] = {1, 0};
+    double sigma[kDiffractionLobes] = {0, 0};
+    double max_error = 0; // largest |ln(fit / node)| over the fit's range
+};
+const DiffractionLobesFit& fit_diffraction_lobes(int prismReflection);
 
 // The nodegraph document (rp_pbrlib_ng.mtlx) implementing ND_rp_prismatic_retroreflector_bsdf.
 // Throws std::runtime_error when an input of the parameter table neither reaches the graph nor

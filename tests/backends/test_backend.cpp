@@ -165,6 +165,15 @@ bool wide_retro_lobe(const Params& p) {
     return std::sqrt(2.0) * (p.ior - 1) * p.roughness >= 1.5 * M_PI / 180;
 }
 
+// The portable graph's R_A table (rotation 0) against the C++ reference's for material p.
+RaDeviation portable_ra_deviation(const Params& p) {
+    const Params local = ra_params(p);
+    return ra_deviation(
+        ra_table(p, 0.0),
+        ra_table([&](const auto& dirs) { return backend_f("materialx-portable", local, dirs); },
+                 0.0));
+}
+
 } // namespace
 
 TEST_CASE("Every input changes every backend's output when varied alone", "[backend]") {
@@ -224,11 +233,7 @@ TEST_CASE("The portable implementation's R_A is within 15% up to 1 degree of obs
         const Params& p = s.params;
         if (!wide_retro_lobe(p)) continue;
         INFO(s.name);
-        const Params local = ra_params(p);
-        const RaDeviation d = ra_deviation(
-            ra_table(p, 0.0),
-            ra_table([&](const auto& dirs) { return backend_f("materialx-portable", local, dirs); },
-                     0.0));
+        const RaDeviation d = portable_ra_deviation(p);
         double within1 = 0;
         for (size_t i = 0; i < d.relative.size(); ++i)
             if (ra_observation_angles()[i] <= 1.0)
@@ -242,6 +247,32 @@ TEST_CASE("The portable implementation's R_A is within 15% up to 1 degree of obs
         ++measured;
     }
     CHECK(measured >= 15);
+}
+
+TEST_CASE("The portable implementation's diffraction lobes hold R_A of the sheetings with a "
+          "prism pitch within a factor 2.5",
+          "[backend]") {
+    // The graph's two GGX lobes per prism kind, fitted to the node's pattern at normal incidence
+    // within 0.32 in ln (ideal faces; "The portable graph's diffraction lobes ..." in [glsl]),
+    // widened off normal incidence by the aperture's shrinking: what stays beyond the fit is
+    // the GGX lobe's own tail, which the geometric lobe's width widens (the graph adds widths in
+    // quadrature, the node convolves a Gaussian), the uncoated prisms' coherence changing with
+    // the incidence (the node's table, which the graph holds at normal incidence) and the cant,
+    // which the fit leaves at 0. Measured largest deviation 145% (microprismatic_160um, ideal
+    // faces, 1 degree, entrance -4; with one Gaussian core alone 487%): the bound 150% guards it.
+    int measured = 0;
+    for (const NamedMaterial& s : bundled_sheetings()) {
+        const Params& p = s.params;
+        if (!(p.prism_pitch > 0)) continue;
+        INFO(s.name);
+        const RaDeviation d = portable_ra_deviation(p);
+        std::printf("MEASURED: materialx-portable, %s (prism pitch %g um): largest R_A deviation "
+                    "%.1f%% (observation %.2f, entrance %.0f deg)\n",
+                    s.name.c_str(), p.prism_pitch, 100 * d.max_abs, d.observation, d.entrance);
+        CHECK(d.max_abs <= 1.5);
+        ++measured;
+    }
+    CHECK(measured >= 4);
 }
 
 TEST_CASE("The portable implementation's retro lobe has the node's widths along and across the "
