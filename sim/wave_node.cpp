@@ -45,6 +45,13 @@ std::vector<double> node_profile(const Params& material, const NodeWaveCase& c,
     return ra;
 }
 
+// The wave optics' material of case c.
+WaveMaterial case_material(const Params& material, const NodeWaveCase& c) {
+    WaveMaterial m = wave_material(material, c.pitch_um);
+    m.prism_reflection = c.prism;
+    return m;
+}
+
 } // namespace
 
 Params node_wave_params(const Params& material, const NodeWaveCase& c) {
@@ -78,9 +85,7 @@ std::vector<NodeWaveProfile> node_wave_profiles(const Params& material,
                                                 double pitchSpread, int threads) {
     for (const NodeWaveCase& c : cases) {
         check_case(c);
-        WaveMaterial m = wave_material(material, c.pitch_um);
-        m.prism_reflection = c.prism;
-        check_material(m);
+        check_material(case_material(material, c));
     }
     for (double a : observationDeg)
         require(a > 0.0 && a <= 20.0, "observation", a, "a number in (0, 20] deg");
@@ -91,10 +96,9 @@ std::vector<NodeWaveProfile> node_wave_profiles(const Params& material,
     std::vector<NodeWaveProfile> out(cases.size());
     parallel_for(cases.size(), threads, [&](size_t i) {
         const NodeWaveCase& c = cases[i];
-        WaveMaterial m = wave_material(material, c.pitch_um);
-        m.prism_reflection = c.prism;
         out[i].c = c;
-        out[i].wave = wave_ra_profile(m, c.entrance_deg, observationDeg, c.nm, mode);
+        out[i].wave =
+            wave_ra_profile(case_material(material, c), c.entrance_deg, observationDeg, c.nm, mode);
         out[i].node = node_profile(material, c, observationDeg);
     });
     return out;

@@ -259,17 +259,6 @@ int wave_scan(const RaMeasurements& table, const std::vector<double>& pitches,
     return 0;
 }
 
-std::vector<double> pitch_list(const std::string& text) {
-    std::vector<double> list;
-    size_t start = 0;
-    while (start <= text.size()) {
-        const size_t comma = std::min(text.find(',', start), text.size());
-        list.push_back(parse_number_in(text.substr(start, comma - start), "PITCH_UM", 1, 1e5));
-        start = comma + 1;
-    }
-    return list;
-}
-
 } // namespace
 
 int main(int argc, char** argv) {
@@ -280,9 +269,10 @@ int main(int argc, char** argv) {
                                      "[PITCH_UM,... [tir|ideal|metallized]]\n");
                 return 2;
             }
-            return wave_scan(read_ra_table(argv[2]),
-                             pitch_list(argc > 3 ? argv[3] : "80,120,162,200,250"),
-                             argc > 4 ? argv[4] : "tir");
+            return wave_scan(
+                read_ra_table(argv[2]),
+                parse_number_list(argc > 3 ? argv[3] : "80,120,162,200,250", "PITCH_UM", 1, 1e5),
+                argc > 4 ? argv[4] : "tir");
         }
         const bool full = argc > 1 && std::string(argv[1]) == "--full";
         const int first = full ? 2 : 1; // the first positional argument
