@@ -1887,13 +1887,15 @@ const float RP_DIFF_MIN_CORE_PEAK = float(0.05);
 // fields are nearly opposite). Measured by the wave-optics simulator (tests/sim/test_wave.cpp,
 // "The node's coherence constants", which recomputes them): metallised faces at normal
 // incidence, ior 1.49; uncoated faces, whose TIR phases depend on the index and the direction,
-// over theta_t = 0, 5, ..., 50 deg (RP_DIFF_TIR_NT) at ior RP_DIFF_TIR_ETA (rows of
+// over theta_t = 0, 0.5, ..., 50 deg (RP_DIFF_TIR_NT) at ior RP_DIFF_TIR_ETA (rows of
 // rp_diff_tir_coherence and rp_diff_tir_edges; directions no light reaches from outside repeat
-// the last one that does).
+// the last one that does). Half-degree steps: c changes its slope within a degree where the
+// refracted ray runs parallel to a face in some orientations (theta_t 35.26 deg for the
+// paper's cube, entrance about 59 deg at ior 1.49), and dips near 12 deg.
 const float RP_DIFF_COHERENCE_METAL = float(0.9971);
 const float RP_DIFF_EDGES_METAL = float(0.0048);
-const int RP_DIFF_TIR_NT = 11;
-const float RP_DIFF_TIR_STEP_DEG = float(5.0);
+const int RP_DIFF_TIR_NT = 101;
+const float RP_DIFF_TIR_STEP_DEG = float(0.5);
 const vec4 RP_DIFF_TIR_ETA = vec4(float(1.40), float(1.49), float(1.586), float(1.70));
 // The 2D Cauchy law (1 + rho^2)^(-3/2) / (2 pi) is a Gaussian scale mixture, std 1 / |z| per axis
 // for z standard normal; its scales' density in ln s is 2 phi(1 / s) / s. The tail is that
@@ -1923,23 +1925,113 @@ const vec4 rp_diff_weight_fast_v4[3] = vec4[3](
 float rp_diff_weight_fast_at(int i) {
     return rp_diff_weight_fast_v4[i >> 2][i & 3];
 }
-const vec4 rp_diff_tir_coherence_v4[11] = vec4[11](
-    vec4(0.0641, 0.0618, 0.0494, 0.2023), vec4(0.4414, 0.6948, 0.8091, 0.7889),
-    vec4(0.9775, 0.9952, 0.9952, 0.1425), vec4(0.1481, 0.1545, 0.2236, 0.4568),
-    vec4(0.6949, 0.7716, 0.645, 0.9708), vec4(0.9708, 0.9708, 0.2041, 0.2139),
-    vec4(0.2377, 0.2433, 0.4476, 0.6888), vec4(0.7654, 0.5687, 0.5687, 0.5687),
-    vec4(0.5687, 0.258, 0.2705, 0.3044), vec4(0.3433, 0.41, 0.668, 0.7616),
-    vec4(0.533, 0.533, 0.533, 0.533));
+const vec4 rp_diff_tir_coherence_v4[101] = vec4[101](
+    vec4(0.0641, 0.064, 0.064, 0.064), vec4(0.0639, 0.0638, 0.0636, 0.0633),
+    vec4(0.0629, 0.0624, 0.0618, 0.0609), vec4(0.0597, 0.0583, 0.0563, 0.0538),
+    vec4(0.0504, 0.0459, 0.0392, 0.0403), vec4(0.0494, 0.0599, 0.0709, 0.0843),
+    vec4(0.0982, 0.1131, 0.1286, 0.1453), vec4(0.1638, 0.1818, 0.2023, 0.222),
+    vec4(0.2445, 0.2663, 0.2896, 0.3139), vec4(0.3379, 0.3626, 0.3891, 0.4153),
+    vec4(0.4414, 0.4669, 0.4948, 0.5221), vec4(0.5487, 0.5747, 0.6, 0.6245),
+    vec4(0.6477, 0.6723, 0.6948, 0.7157), vec4(0.7349, 0.7523, 0.7677, 0.7809),
+    vec4(0.7919, 0.8004, 0.8062, 0.8092), vec4(0.8091, 0.8058, 0.7991, 0.7891),
+    vec4(0.7759, 0.7601, 0.743, 0.7276), vec4(0.7197, 0.7313, 0.7889, 0.8874),
+    vec4(0.9158, 0.9318, 0.9432, 0.952), vec4(0.959, 0.9649, 0.97, 0.9742),
+    vec4(0.9775, 0.9808, 0.9833, 0.9857), vec4(0.9877, 0.9895, 0.991, 0.9924),
+    vec4(0.9934, 0.9946, 0.9952, 0.996), vec4(0.996, 0.996, 0.996, 0.996),
+    vec4(0.996, 0.996, 0.996, 0.996), vec4(0.996, 0.1425, 0.1426, 0.1428),
+    vec4(0.1431, 0.1435, 0.1441, 0.1447), vec4(0.1454, 0.1463, 0.1472, 0.1481),
+    vec4(0.1491, 0.1501, 0.1511, 0.1521), vec4(0.153, 0.1538, 0.1544, 0.1547),
+    vec4(0.1548, 0.1545, 0.1536, 0.152), vec4(0.1495, 0.1457, 0.1391, 0.1497),
+    vec4(0.167, 0.184, 0.2038, 0.2236), vec4(0.2441, 0.265, 0.2861, 0.3099),
+    vec4(0.3327, 0.3568, 0.3809, 0.4061), vec4(0.4295, 0.4568, 0.482, 0.506),
+    vec4(0.5334, 0.5585, 0.5827, 0.6067), vec4(0.631, 0.6538, 0.6751, 0.6949),
+    vec4(0.713, 0.731, 0.7464, 0.7594), vec4(0.7697, 0.7772, 0.7814, 0.7821),
+    vec4(0.7787, 0.7716, 0.7616, 0.7455), vec4(0.7238, 0.6965, 0.6638, 0.627),
+    vec4(0.5896, 0.5599, 0.5586, 0.645), vec4(0.851, 0.8924, 0.9137, 0.9284),
+    vec4(0.9395, 0.9483, 0.9555, 0.9618), vec4(0.9669, 0.9708, 0.9749, 0.9777),
+    vec4(0.9805, 0.9825, 0.9825, 0.9825), vec4(0.9825, 0.9825, 0.9825, 0.9825),
+    vec4(0.9825, 0.9825, 0.9825, 0.9825), vec4(0.9825, 0.9825, 0.9825, 0.9825),
+    vec4(0.9825, 0.9825, 0.2041, 0.2042), vec4(0.2045, 0.205, 0.2057, 0.2066),
+    vec4(0.2077, 0.209, 0.2105, 0.2121), vec4(0.2139, 0.2159, 0.218, 0.2202),
+    vec4(0.2226, 0.225, 0.2275, 0.2301), vec4(0.2326, 0.2352, 0.2377, 0.2401),
+    vec4(0.2423, 0.2444, 0.2462, 0.2475), vec4(0.2484, 0.2487, 0.2481, 0.2465),
+    vec4(0.2433, 0.2375, 0.2503, 0.2728), vec4(0.2978, 0.321, 0.3455, 0.3711),
+    vec4(0.3972, 0.4227, 0.4476, 0.4749), vec4(0.4991, 0.5265, 0.5509, 0.5762),
+    vec4(0.6012, 0.6236, 0.6469, 0.6691), vec4(0.6888, 0.7065, 0.7247, 0.7402),
+    vec4(0.7528, 0.7627, 0.7695, 0.7745), vec4(0.776, 0.773, 0.7654, 0.7529),
+    vec4(0.7349, 0.711, 0.6808, 0.6448), vec4(0.6073, 0.5653, 0.5274, 0.5114),
+    vec4(0.5687, 0.7767, 0.8557, 0.886), vec4(0.9054, 0.9197, 0.9305, 0.9391),
+    vec4(0.9458, 0.9458, 0.9458, 0.9458), vec4(0.9458, 0.9458, 0.9458, 0.9458),
+    vec4(0.9458, 0.9458, 0.9458, 0.9458), vec4(0.9458, 0.9458, 0.9458, 0.9458),
+    vec4(0.9458, 0.9458, 0.9458, 0.9458), vec4(0.9458, 0.9458, 0.9458, 0.258),
+    vec4(0.2581, 0.2585, 0.2591, 0.26), vec4(0.2612, 0.2626, 0.2642, 0.2661),
+    vec4(0.2682, 0.2705, 0.2731, 0.2759), vec4(0.2788, 0.282, 0.2854, 0.2889),
+    vec4(0.2926, 0.2964, 0.3004, 0.3044), vec4(0.3086, 0.3128, 0.317, 0.3212),
+    vec4(0.3253, 0.3293, 0.3332, 0.3369), vec4(0.3403, 0.3433, 0.3458, 0.3477),
+    vec4(0.3487, 0.3488, 0.3475, 0.3443), vec4(0.3384, 0.3505, 0.3811, 0.41),
+    vec4(0.4376, 0.4659, 0.4942, 0.5211), vec4(0.5461, 0.5741, 0.5965, 0.6235),
+    vec4(0.6446, 0.668, 0.6881, 0.7047), vec4(0.7235, 0.738, 0.749, 0.7573),
+    vec4(0.7658, 0.7686, 0.7672, 0.7616), vec4(0.7521, 0.7378, 0.7171, 0.6902),
+    vec4(0.657, 0.6179, 0.5747, 0.5321), vec4(0.5087, 0.533, 0.6629, 0.7724),
+    vec4(0.7724, 0.7724, 0.7724, 0.7724), vec4(0.7724, 0.7724, 0.7724, 0.7724),
+    vec4(0.7724, 0.7724, 0.7724, 0.7724), vec4(0.7724, 0.7724, 0.7724, 0.7724),
+    vec4(0.7724, 0.7724, 0.7724, 0.7724), vec4(0.7724, 0.7724, 0.7724, 0.7724),
+    vec4(0.7724, 0.7724, 0.7724, 0.7724));
 float rp_diff_tir_coherence_at(int i) {
     return rp_diff_tir_coherence_v4[i >> 2][i & 3];
 }
-const vec4 rp_diff_tir_edges_v4[11] = vec4[11](
-    vec4(1.2015, 1.1855, 1.13, 0.9008), vec4(0.6012, 0.3416, 0.2158, 0.5613),
-    vec4(0.0222, 0.0047, 0.0047, 1.1106), vec4(1.0892, 1.0348, 0.8845, 0.5974),
-    vec4(0.3669, 0.2891, 1.2328, 0.0328), vec4(0.0328, 0.0328, 1.0385, 1.0139),
-    vec4(0.9473, 0.8686, 0.6049, 0.3744), vec4(0.2986, 1.2795, 1.2795, 1.2795),
-    vec4(1.2795, 0.9748, 0.9481, 0.8741), vec4(0.7735, 0.631, 0.3861, 0.2974),
-    vec4(1.1068, 1.1068, 1.1068, 1.1068));
+const vec4 rp_diff_tir_edges_v4[101] = vec4[101](
+    vec4(1.2015, 1.2013, 1.2008, 1.2), vec4(1.1988, 1.1973, 1.1955, 1.1934),
+    vec4(1.191, 1.1883, 1.1855, 1.1824), vec4(1.1791, 1.1757, 1.1722, 1.1687),
+    vec4(1.1652, 1.1618, 1.1585, 1.1468), vec4(1.13, 1.1118, 1.0928, 1.072),
+    vec4(1.0505, 1.0279, 1.0044, 0.9803), vec4(0.9543, 0.9282, 0.9008, 0.8732),
+    vec4(0.844, 0.8156, 0.7849, 0.7546), vec4(0.7248, 0.6931, 0.6614, 0.6304),
+    vec4(0.6012, 0.5733, 0.5423, 0.5141), vec4(0.4874, 0.4618, 0.4374, 0.4141),
+    vec4(0.392, 0.3645, 0.3416, 0.3208), vec4(0.3017, 0.2843, 0.2686, 0.2547),
+    vec4(0.2426, 0.2326, 0.2246, 0.219), vec4(0.2158, 0.2155, 0.2184, 0.2251),
+    vec4(0.2365, 0.2538, 0.2785, 0.3138), vec4(0.365, 0.441, 0.5613, 0.2335),
+    vec4(0.1432, 0.0879, 0.0713, 0.0573), vec4(0.0456, 0.0359, 0.0282, 0.029),
+    vec4(0.0222, 0.0169, 0.0171, 0.0127), vec4(0.013, 0.0093, 0.0095, 0.0066),
+    vec4(0.0068, 0.0045, 0.0047, 0.0054), vec4(0.0054, 0.0054, 0.0054, 0.0054),
+    vec4(0.0054, 0.0054, 0.0054, 0.0054), vec4(0.0054, 1.1106, 1.1103, 1.1097),
+    vec4(1.1086, 1.1071, 1.1051, 1.1027), vec4(1.0999, 1.0967, 1.0931, 1.0892),
+    vec4(1.0848, 1.0802, 1.0753, 1.07), vec4(1.0645, 1.0588, 1.053, 1.0469),
+    vec4(1.0409, 1.0348, 1.0287, 1.0228), vec4(1.0171, 1.0117, 1.0068, 0.9866),
+    vec4(0.9619, 0.9376, 0.911, 0.8845), vec4(0.8573, 0.8298, 0.8025, 0.773),
+    vec4(0.7441, 0.7149, 0.6852, 0.6556), vec4(0.6273, 0.5974, 0.5707, 0.5454),
+    vec4(0.5181, 0.4936, 0.4705, 0.4473), vec4(0.4245, 0.4038, 0.3846, 0.3669),
+    vec4(0.3508, 0.3332, 0.3191, 0.3071), vec4(0.2975, 0.2902, 0.2855, 0.2837),
+    vec4(0.2852, 0.2891, 0.2943, 0.3068), vec4(0.3259, 0.3539, 0.3936, 0.4488),
+    vec4(0.529, 0.651, 0.8514, 1.2328), vec4(0.3778, 0.21, 0.1238, 0.1002),
+    vec4(0.0805, 0.0642, 0.0509, 0.04), vec4(0.0426, 0.0328, 0.0252, 0.027),
+    vec4(0.0203, 0.0229, 0.0229, 0.0229), vec4(0.0229, 0.0229, 0.0229, 0.0229),
+    vec4(0.0229, 0.0229, 0.0229, 0.0229), vec4(0.0229, 0.0229, 0.0229, 0.0229),
+    vec4(0.0229, 0.0229, 1.0385, 1.0382), vec4(1.0375, 1.0362, 1.0345, 1.0322),
+    vec4(1.0295, 1.0263, 1.0226, 1.0185), vec4(1.0139, 1.0089, 1.0034, 0.9976),
+    vec4(0.9913, 0.9847, 0.9778, 0.9706), vec4(0.9631, 0.9553, 0.9473, 0.9392),
+    vec4(0.9309, 0.9225, 0.9142, 0.9059), vec4(0.8977, 0.8898, 0.8822, 0.8751),
+    vec4(0.8686, 0.863, 0.8407, 0.8116), vec4(0.7814, 0.7525, 0.7229, 0.6926),
+    vec4(0.6621, 0.6323, 0.6049, 0.5764), vec4(0.5515, 0.5244, 0.5007, 0.4764),
+    vec4(0.4534, 0.4329, 0.4115, 0.3917), vec4(0.3744, 0.359, 0.3424, 0.3287),
+    vec4(0.3177, 0.3087, 0.3021, 0.2959), vec4(0.2929, 0.2939, 0.2986, 0.3079),
+    vec4(0.3226, 0.3438, 0.3738, 0.4155), vec4(0.4699, 0.5521, 0.6777, 0.8846),
+    vec4(1.2795, 0.9106, 0.3441, 0.1872), vec4(0.1515, 0.123, 0.0999, 0.0813),
+    vec4(0.0677, 0.0677, 0.0677, 0.0677), vec4(0.0677, 0.0677, 0.0677, 0.0677),
+    vec4(0.0677, 0.0677, 0.0677, 0.0677), vec4(0.0677, 0.0677, 0.0677, 0.0677),
+    vec4(0.0677, 0.0677, 0.0677, 0.0677), vec4(0.0677, 0.0677, 0.0677, 0.9748),
+    vec4(0.9745, 0.9737, 0.9723, 0.9705), vec4(0.968, 0.9651, 0.9616, 0.9576),
+    vec4(0.9531, 0.9481, 0.9427, 0.9367), vec4(0.9303, 0.9234, 0.9162, 0.9085),
+    vec4(0.9004, 0.8919, 0.8832, 0.8741), vec4(0.8647, 0.855, 0.8451, 0.8351),
+    vec4(0.8249, 0.8146, 0.8042, 0.7939), vec4(0.7836, 0.7735, 0.7636, 0.754),
+    vec4(0.745, 0.7365, 0.7287, 0.722), vec4(0.7166, 0.6956, 0.6618, 0.631),
+    vec4(0.6022, 0.5739, 0.5462, 0.5201), vec4(0.4964, 0.4707, 0.4498, 0.4258),
+    vec4(0.4067, 0.3861, 0.3685, 0.3536), vec4(0.3372, 0.3245, 0.3143, 0.3061),
+    vec4(0.2983, 0.2947, 0.2944, 0.2974), vec4(0.304, 0.3157, 0.3336, 0.3596),
+    vec4(0.396, 0.4467, 0.5191, 0.6266), vec4(0.7986, 1.1068, 1.097, 0.8255),
+    vec4(0.8255, 0.8255, 0.8255, 0.8255), vec4(0.8255, 0.8255, 0.8255, 0.8255),
+    vec4(0.8255, 0.8255, 0.8255, 0.8255), vec4(0.8255, 0.8255, 0.8255, 0.8255),
+    vec4(0.8255, 0.8255, 0.8255, 0.8255), vec4(0.8255, 0.8255, 0.8255, 0.8255),
+    vec4(0.8255, 0.8255, 0.8255, 0.8255));
 float rp_diff_tir_edges_at(int i) {
     return rp_diff_tir_edges_v4[i >> 2][i & 3];
 }
@@ -3148,6 +3240,15 @@ vec3 rp_aperture_bounds(in rp_material m, vec3 d) {
     return mk;
 }
 
+// The length in units of edge k of T and T''s edges on the lines l_k = 0 and l_k = m_k, for the
+// bounds (mk, mi, mj) = (m_k, m_i, m_j) with i, j the next two indices (rp_aperture_measures).
+// Every component is passed by name: no bound is indexed at run time.
+float rp_aperture_edge(float mk, float mi, float mj) {
+    float own = max(float(0.0), min(float(1.0), mi) - max(float(0.0), float(1.0) - mj));
+    float image = max(float(0.0), min(mi, float(1.0) - mk) - max(float(0.0), float(1.0) - mk - mj));
+    return own + image;
+}
+
 // The effective aperture of one prism for the inner direction d given in the prism's own frame
 // (orientation 0): (A, A^2, P, P_sub) in pitches, with A the area of T and T', P its perimeter and
 // P_sub the summed perimeters of its six face orders (the regions the projections of the cube's
@@ -3157,22 +3258,15 @@ vec3 rp_aperture_bounds(in rp_material m, vec3 d) {
 // [1 - m_k - m_j, min(m_i, 1 - m_k)], both intersected with [0, 1], and a unit of l_i is the
 // edge's length; the ray from O_d = m / 2 toward vertex k leaves at t = min(1, m_k / (2 - m_k)),
 // and T and T' is centrally symmetric about O_d, so the ray toward T''s vertex k is as long.
-vec4 rp_aperture_measures(in rp_material m, vec3 d) {
-    vec3 mk = rp_aperture_bounds(m, d);
-    if (!(mk.x > float(0.0))) return vec4(float(0.0));
+// rp_aperture_measures_at takes the bounds mk (rp_aperture_bounds, all positive).
+vec4 rp_aperture_measures_at(in rp_material m, vec3 mk) {
     vec3 l = vec3(float(1.0)) - mk;
     float frac =
         clamp(float(1.0) - l.x * abs(l.x) - l.y * abs(l.y) - l.z * abs(l.z), float(0.0), float(1.0));
     float area = frac * RP_INV_SQRT3;
-    float perim = float(0.0);
-    for (int k = 0; k < 3; ++k) {
-        float mi = mk[(k + 1) % 3];
-        float mj = mk[(k + 2) % 3];
-        float own = max(float(0.0), min(float(1.0), mi) - max(float(0.0), float(1.0) - mj));
-        float image =
-            max(float(0.0), min(mi, float(1.0) - mk[k]) - max(float(0.0), float(1.0) - mk[k] - mj));
-        perim += (own + image) * m.ap_edge[k];
-    }
+    float perim = rp_aperture_edge(mk.x, mk.y, mk.z) * m.ap_edge.x;
+    perim += rp_aperture_edge(mk.y, mk.z, mk.x) * m.ap_edge.y;
+    perim += rp_aperture_edge(mk.z, mk.x, mk.y) * m.ap_edge.z;
     vec2 od = float(0.5) * (mk.x * m.ap_v1 + mk.y * m.ap_v2 + mk.z * m.ap_v3);
     vec3 t = min(vec3(float(1.0)), mk / (vec3(float(2.0)) - mk));
     float inner =
@@ -3180,44 +3274,59 @@ vec4 rp_aperture_measures(in rp_material m, vec3 d) {
     return vec4(area, area * area, perim, perim + float(4.0) * inner);
 }
 
+vec4 rp_aperture_measures(in rp_material m, vec3 d) {
+    vec3 mk = rp_aperture_bounds(m, d);
+    if (!(mk.x > float(0.0))) return vec4(float(0.0));
+    return rp_aperture_measures_at(m, mk);
+}
+
+// One edge's share of rp_aperture_moments added to sum: the edge on the line l_k = base (0 for
+// T's, m_k for T''s) of vertices vk, vi, vj (i, j the next two indices after k) and bounds
+// mi, mj, whose triangle with the centre od has the moment (A / 6) ((a.u)^2 + (b.u)^2 + (a.u)(b.u))
+// along u (and likewise along w) for its vertices a, b relative to od. Every component is passed
+// by name: no vertex or bound is indexed at run time.
+vec2 rp_aperture_edge_moments(vec2 sum, vec2 vk, vec2 vi, vec2 vj, float base, float mi,
+                                    float mj, vec2 od, vec2 u, vec2 w) {
+    float lo = max(float(0.0), float(1.0) - base - mj);
+    float hi = min(mi, float(1.0) - base);
+    if (!(hi > lo)) return sum;
+    vec2 a = base * vk + lo * vi + (float(1.0) - base - lo) * vj - od;
+    vec2 b = base * vk + hi * vi + (float(1.0) - base - hi) * vj - od;
+    float area = float(0.5) * abs(a.x * b.y - a.y * b.x);
+    float au = dot(a, u);
+    float bu = dot(b, u);
+    float aw = dot(a, w);
+    float bw = dot(b, w);
+    return sum +
+           (area / float(6.0)) * vec2(au * au + bu * bu + au * bu, aw * aw + bw * bw + aw * bw);
+}
+
 // The second moments (pitches^4) of the effective aperture T and T' of rp_aperture_measures
 // about its centre of symmetry O_d, along d's sheet-plane components and across them: the sum
 // over its edges (each on a line l_k = 0 or l_k = m_k, over the ranges rp_aperture_measures
 // gives) of the triangle from O_d to the edge, whose moment along u is
-// (A / 6) ((a.u)^2 + (b.u)^2 + (a.u)(b.u)) for its vertices a, b relative to O_d.
-vec2 rp_aperture_moments(in rp_material m, vec3 d) {
-    vec3 mk = rp_aperture_bounds(m, d);
+// (A / 6) ((a.u)^2 + (b.u)^2 + (a.u)(b.u)) for its vertices a, b relative to O_d; mk the bounds
+// rp_aperture_bounds gives for d.
+vec2 rp_aperture_moments(in rp_material m, vec3 d, vec3 mk) {
     if (!(mk.x > float(0.0))) return vec2(float(0.0));
     float dl = length(vec2(d.x, d.y));
     vec2 u = dl > float(0.0) ? vec2(d.x, d.y) / dl : vec2(float(1.0), float(0.0));
     vec2 w = vec2(-u.y, u.x);
     vec2 od = float(0.5) * (mk.x * m.ap_v1 + mk.y * m.ap_v2 + mk.z * m.ap_v3);
     vec2 moments = vec2(float(0.0));
-    for (int k = 0; k < 3; ++k) {
-        int i = (k + 1) % 3;
-        int j = (k + 2) % 3;
-        vec2 vk = k == 0 ? m.ap_v1 : (k == 1 ? m.ap_v2 : m.ap_v3);
-        vec2 vi = i == 0 ? m.ap_v1 : (i == 1 ? m.ap_v2 : m.ap_v3);
-        vec2 vj = j == 0 ? m.ap_v1 : (j == 1 ? m.ap_v2 : m.ap_v3);
-        float mi = mk[i];
-        float mj = mk[j];
-        // T's edge (l_k = 0, l_j = 1 - l_i), then T''s (l_k = m_k, l_j = 1 - m_k - l_i).
-        for (int side = 0; side < 2; ++side) {
-            float base = side == 0 ? float(0.0) : mk[k];
-            float lo = max(float(0.0), float(1.0) - base - mj);
-            float hi = min(mi, float(1.0) - base);
-            if (!(hi > lo)) continue;
-            vec2 a = base * vk + lo * vi + (float(1.0) - base - lo) * vj - od;
-            vec2 b = base * vk + hi * vi + (float(1.0) - base - hi) * vj - od;
-            float area = float(0.5) * abs(a.x * b.y - a.y * b.x);
-            float au = dot(a, u);
-            float bu = dot(b, u);
-            float aw = dot(a, w);
-            float bw = dot(b, w);
-            moments +=
-                (area / float(6.0)) * vec2(au * au + bu * bu + au * bu, aw * aw + bw * bw + aw * bw);
-        }
-    }
+    // T's edge (l_k = 0, l_j = 1 - l_i), then T''s (l_k = m_k, l_j = 1 - m_k - l_i), k = 1, 2, 3.
+    moments = rp_aperture_edge_moments(moments, m.ap_v1, m.ap_v2, m.ap_v3, float(0.0), mk.y, mk.z,
+                                       od, u, w);
+    moments =
+        rp_aperture_edge_moments(moments, m.ap_v1, m.ap_v2, m.ap_v3, mk.x, mk.y, mk.z, od, u, w);
+    moments = rp_aperture_edge_moments(moments, m.ap_v2, m.ap_v3, m.ap_v1, float(0.0), mk.z, mk.x,
+                                       od, u, w);
+    moments =
+        rp_aperture_edge_moments(moments, m.ap_v2, m.ap_v3, m.ap_v1, mk.y, mk.z, mk.x, od, u, w);
+    moments = rp_aperture_edge_moments(moments, m.ap_v3, m.ap_v1, m.ap_v2, float(0.0), mk.x, mk.y,
+                                       od, u, w);
+    moments =
+        rp_aperture_edge_moments(moments, m.ap_v3, m.ap_v1, m.ap_v2, mk.z, mk.x, mk.y, od, u, w);
     return moments;
 }
 
@@ -3271,9 +3380,11 @@ void rp_diffraction_setup(in rp_material m, inout rp_incident s, float sinThetaI
         float c = cos(psi);
         float sn = sin(psi);
         vec3 d = vec3(c * s.dt.x + sn * s.dt.y, c * s.dt.y - sn * s.dt.x, s.dt.z);
-        vec4 measures = rp_aperture_measures(m, d);
+        vec3 mk = rp_aperture_bounds(m, d);
+        if (!(mk.x > float(0.0))) continue;
+        vec4 measures = rp_aperture_measures_at(m, mk);
         sum += measures;
-        moments += measures.x * rp_aperture_moments(m, d);
+        moments += measures.x * rp_aperture_moments(m, d, mk);
     }
     if (!(sum.x > float(0.0))) return;
     // Uncoated faces: the orders' coherence at this direction.
@@ -3286,8 +3397,36 @@ void rp_diffraction_setup(in rp_material m, inout rp_incident s, float sinThetaI
     float slope = sum.z / (float(2.0) * RP_PI * RP_PI * sum.x);
     vec2 whole = rp_diffraction_shape(m, peak, slope);
     vec3 form = vec3(RP_DIFF_CORE_WEIGHT, float(1.0), float(1.0));
-    if (m.prism_reflection == RP_PRISM_TIR) form = RP_DIFF_WHOLE_TIR;
     s.diffCoherent = ce.x;
+    float tailPeak = m.fidelity == RP_FIDELITY_FAST ? RP_DIFF_TAIL_PEAK_FAST : RP_DIFF_TAIL_PEAK;
+    // The orders' share on the axis (its core a donut, only its tail there), per unit weight.
+    float ordersAxis = float(0.0);
+    if (ce.x < float(1.0)) {
+        float edges = ce.y / (float(1.0) - ce.x);
+        vec2 orders = rp_diffraction_shape(m, peak / float(6.0),
+                                           (sum.z + edges * (sum.w - sum.z)) /
+                                               (float(2.0) * RP_PI * RP_PI * sum.x));
+        s.diffOrderCore2 = orders.x * RP_DIFF_ORDERS.y;
+        s.diffOrderTail = orders.y * RP_DIFF_ORDERS.z;
+        ordersAxis = (float(1.0) - RP_DIFF_ORDERS.x) * tailPeak /
+                     (float(2.0) * RP_PI * s.diffOrderTail * s.diffOrderTail);
+    }
+    if (m.prism_reflection == RP_PRISM_TIR) {
+        form = RP_DIFF_WHOLE_TIR;
+        // The fitted form puts most of the whole share in its tail; where the aperture is thin
+        // (far off normal incidence) that tail is wide and the share would lose its peak. Its
+        // core's weight is raised until the pattern keeps the peak the wave optics give,
+        // c + (1 - c) / 6 of the interfering aperture's: c W(0) + (1 - c) O(0) with W and O the
+        // two shares' densities on the axis (docs/diffraction.md).
+        float coreAxis = float(1.0) / (float(2.0) * RP_PI * whole.x * form.y);
+        float tailAxis = tailPeak / (float(2.0) * RP_PI * whole.y * whole.y * form.z * form.z);
+        float target = ce.x > float(0.0) ? ((ce.x + (float(1.0) - ce.x) / float(6.0)) * peak -
+                                          (float(1.0) - ce.x) * ordersAxis) /
+                                             ce.x
+                                       : float(0.0);
+        if (coreAxis > tailAxis && form.x * coreAxis + (float(1.0) - form.x) * tailAxis < target)
+            form.x = clamp((target - tailAxis) / (coreAxis - tailAxis), float(0.0), float(1.0));
+    }
     s.diffCore2 = whole.x * form.y;
     s.diffTail = whole.y * form.z;
     s.diffCoreWeight = form.x;
@@ -3296,14 +3435,6 @@ void rp_diffraction_setup(in rp_material m, inout rp_incident s, float sinThetaI
     // is M_perp / M_par, what the wave optics' R_A follows (docs/diffraction.md; the curvature
     // alone would give its square root).
     if (moments.x > float(0.0) && moments.y > float(0.0)) s.diffAniso = moments.y / moments.x;
-    if (ce.x < float(1.0)) {
-        float edges = ce.y / (float(1.0) - ce.x);
-        vec2 orders = rp_diffraction_shape(m, peak / float(6.0),
-                                           (sum.z + edges * (sum.w - sum.z)) /
-                                               (float(2.0) * RP_PI * RP_PI * sum.x));
-        s.diffOrderCore2 = orders.x * RP_DIFF_ORDERS.y;
-        s.diffOrderTail = orders.y * RP_DIFF_ORDERS.z;
-    }
     // docs/dihedral.md: the ring's moments inside the prism carried out by the exit refraction
     // (rp_incident_lobes), absolute here.
     float magPar = m.eta * cosThetaT * s.invCosI;
