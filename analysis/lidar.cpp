@@ -1,7 +1,9 @@
 #include "lidar.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <memory>
 #include <string>
 
@@ -98,10 +100,28 @@ LidarBrdf lidar_node_brdf(const Params& material, double wavelengthNm, int chann
     require(wavelengthNm > 0.0 && wavelengthNm <= 2000.0, "--wavelength", wavelengthNm,
             "in (0, 2000] nm");
     require(channel >= 0 && channel <= 2, "--channel", channel, "0 (red), 1 (green) or 2 (blue)");
-    const auto node = std::make_shared<const PrismaticRetroreflector<double>>(
-        PrismaticRetroreflector<double>(ra_params(material)).at_wavelength(wavelengthNm));
-    return [node, channel](const glm::dvec3& wi, const glm::dvec3& wo) {
-        return node->f(wi, wo).total()[channel];
+    using Node = PrismaticRetroreflector<double>;
+    const auto node =
+        std::make_shared<const Node>(Node(ra_params(material)).at_wavelength(wavelengthNm));
+    // aperture_reflectance evaluates one source direction against every point of the receiver's
+    // aperture: the incident state (with a pitch, the diffraction pattern of 12 orientations'
+    // apertures) is made once per source direction and thread, keyed by this function's
+    // instance, and f(incident(wi), wo) is f(wi, wo) bit for bit.
+    static std::atomic<std::uint64_t> instances{0};
+    const std::uint64_t id = ++instances;
+    return [node, channel, id](const glm::dvec3& wi, const glm::dvec3& wo) {
+        struct Last {
+            std::uint64_t id = 0;
+            glm::dvec3 wi{0.0};
+            Node::Incident in;
+        };
+        thread_local Last last;
+        if (last.id != id || last.wi != wi) {
+            last.id = id;
+            last.wi = wi;
+            last.in = node->incident(wi);
+        }
+        return node->f(last.in, wo).total()[channel];
     };
 }
 

@@ -132,6 +132,9 @@ struct core;
     static void setup(const material& m, vec3 wi, incident& s) {                                   \
         NS::rp_incident_setup(m, wi, s);                                                           \
     }                                                                                              \
+    static void incident_lobes(const material& m, vec3 wi, incident& s) {                          \
+        NS::rp_incident_lobes(m, wi, s);                                                           \
+    }                                                                                              \
     static void eval_lobes(const material& m, const incident& s, vec3 wi, vec3 wo, lobes& r) {     \
         NS::rp_eval_lobes(m, s, wi, wo, r);                                                        \
     }                                                                                              \

@@ -353,6 +353,28 @@ PrismaticRetroreflector<Real>::f(const vec3& wiWorld, const vec3& woWorld) const
 }
 
 template <class Real>
+typename PrismaticRetroreflector<Real>::Incident
+PrismaticRetroreflector<Real>::incident(const vec3& wiWorld) const {
+    Incident in;
+    // rp_eval_impl's conditions on wi and the weight; wo's are checked per direction.
+    if (!to_local(wiWorld, in.wi) || !(in.wi.z >= Real(f64::RP_MIN_COS)) || !(m_.weight > Real(0)))
+        return in;
+    core<Real>::incident_lobes(m_, in.wi, in.s);
+    in.valid = true;
+    return in;
+}
+
+template <class Real>
+typename PrismaticRetroreflector<Real>::Lobes
+PrismaticRetroreflector<Real>::f(const Incident& in, const vec3& woWorld) const {
+    vec3 wo;
+    if (!in.valid || !to_local(woWorld, wo) || !(wo.z >= Real(f64::RP_MIN_COS))) return Lobes();
+    typename core<Real>::lobes r;
+    core<Real>::eval_lobes(m_, in.s, in.wi, wo, r);
+    return {r.surface, r.retro, r.diffuse};
+}
+
+template <class Real>
 Real PrismaticRetroreflector<Real>::pdf(const vec3& wi, const vec3& wo) const {
     return eval(wi, wo).pdf;
 }

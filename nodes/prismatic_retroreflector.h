@@ -264,6 +264,18 @@ class PrismaticRetroreflector {
     // f alone: eval() without the pdf, cheaper (no mixture weights), for light loops that do not
     // weight by the sampling pdf; the same values as eval().f.
     Lobes f(const vec3& wi, const vec3& wo) const;
+    // The state of one incident direction (its lobes' widths, the ERA and, with a prism pitch,
+    // the diffraction pattern of the prisms' apertures), made once for many outgoing directions:
+    // f(incident(wi), wo) is f(wi, wo), bit for bit, at the cost of the lobes alone. For a
+    // receiver's aperture integrated against one source (analysis/lidar.h), or any loop over
+    // outgoing directions with the incident one fixed.
+    struct Incident {
+        vec3 wi{0};                        // local frame
+        typename core<Real>::incident s{}; // rp_incident_lobes's
+        bool valid = false;                // false: wi below the horizon or weight 0 (f is 0)
+    };
+    Incident incident(const vec3& wi) const;
+    Lobes f(const Incident& in, const vec3& wo) const;
     Real pdf(const vec3& wi, const vec3& wo) const;
     // u in [0, 1)^3: u.z chooses the lobe, u.x and u.y sample it.
     std::optional<Sample> sample(const vec3& wi, const vec3& u) const;

@@ -229,6 +229,31 @@ TEST_CASE("LiDAR: the bundled materials against a direct integration within 1%",
     }
 }
 
+TEST_CASE("LiDAR: the node's BRDF is the node's f, its incident state kept per direction",
+          "[lidar]") {
+    // lidar_node_brdf makes the incident state once per source direction and thread (keyed by
+    // the instance): interleaving two instances and three source directions must give the
+    // node's f(wi, wo) bit for bit, as if nothing were kept.
+    Params a, b;
+    a.prism_pitch = 120.0;
+    b.prism_pitch = 60.0;
+    b.prism_reflection = 1; // tir
+    const LidarBrdf fa = lidar_node_brdf(a, 905), fb = lidar_node_brdf(b, 905);
+    const Brdf ga = node_at(a, 905), gb = node_at(b, 905);
+    const dvec3 wis[3] = {glm::normalize(dvec3(0.1, 0.0, 1.0)),
+                          glm::normalize(dvec3(-0.3, 0.2, 1.0)), dvec3(0.0, 0.6, -0.8)};
+    long differ = 0, checked = 0;
+    for (int k = 0; k < 96; ++k) {
+        const dvec3 wi = wis[k % 3];
+        const dvec3 wo = glm::normalize(wi + dvec3(0.004 * (k % 7), 0.003 * (k % 5), 0.0));
+        const bool first = (k / 3) % 2 == 0;
+        differ += first ? fa(wi, wo) != ga(wi, wo) : fb(wi, wo) != gb(wi, wo);
+        ++checked;
+    }
+    CHECK(checked == 96);
+    CHECK(differ == 0);
+}
+
 // The default orders against doubled ones: the fast case the geometries where the aperture sees
 // the most of the lobe (2 m, the lobe's peak inside the aperture and just outside its rim), the
 // [ci] case all.
