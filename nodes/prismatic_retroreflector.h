@@ -268,7 +268,8 @@ class PrismaticRetroreflector {
     // the diffraction pattern of the prisms' apertures), made once for many outgoing directions:
     // f(incident(wi), wo) is f(wi, wo), bit for bit, at the cost of the lobes alone. For a
     // receiver's aperture integrated against one source (analysis/lidar.h), or any loop over
-    // outgoing directions with the incident one fixed.
+    // outgoing directions with the incident one fixed. A state belongs to the node that made it
+    // (it holds that material's widths and pattern); pass it to no other.
     struct Incident {
         vec3 wi{0};                        // local frame
         typename core<Real>::incident s{}; // rp_incident_lobes's
