@@ -1889,7 +1889,7 @@ const float RP_DIFF_MIN_CORE_PEAK = float(0.05);
 // incidence, ior 1.49; uncoated faces, whose TIR phases depend on the index and the direction,
 // over theta_t = 0, 0.5, ..., 50 deg (RP_DIFF_TIR_NT) at ior RP_DIFF_TIR_ETA (rows of
 // rp_diff_tir_coherence and rp_diff_tir_edges; directions no light reaches from outside repeat
-// the last one that does). Half-degree steps: c changes its slope within a degree where the
+// the last one that does). Half-degree steps: c changes its slope within half a degree where the
 // refracted ray runs parallel to a face in some orientations (theta_t 35.26 deg for the
 // paper's cube, entrance about 59 deg at ior 1.49), and dips near 12 deg.
 const float RP_DIFF_COHERENCE_METAL = float(0.9971);
@@ -3306,9 +3306,8 @@ vec2 rp_aperture_edge_moments(vec2 sum, vec2 vk, vec2 vi, vec2 vj, float base, f
 // over its edges (each on a line l_k = 0 or l_k = m_k, over the ranges rp_aperture_measures
 // gives) of the triangle from O_d to the edge, whose moment along u is
 // (A / 6) ((a.u)^2 + (b.u)^2 + (a.u)(b.u)) for its vertices a, b relative to O_d; mk the bounds
-// rp_aperture_bounds gives for d.
+// rp_aperture_bounds gives for d (all positive).
 vec2 rp_aperture_moments(in rp_material m, vec3 d, vec3 mk) {
-    if (!(mk.x > float(0.0))) return vec2(float(0.0));
     float dl = length(vec2(d.x, d.y));
     vec2 u = dl > float(0.0) ? vec2(d.x, d.y) / dl : vec2(float(1.0), float(0.0));
     vec2 w = vec2(-u.y, u.x);
@@ -3330,6 +3329,12 @@ vec2 rp_aperture_moments(in rp_material m, vec3 d, vec3 mk) {
     return moments;
 }
 
+// The tail's peak factor C of the material's tier (RP_DIFF_TAIL_PEAK_*): its density on the axis
+// is C / (2 pi a^2) per unit weight for the scale a.
+float rp_diffraction_tail_peak(in rp_material m) {
+    return m.fidelity == RP_FIDELITY_FAST ? RP_DIFF_TAIL_PEAK_FAST : RP_DIFF_TAIL_PEAK;
+}
+
 // The core's variance per axis and the tail's scale (x, y) of a pattern of peak `peak` and
 // tail slope `slope` in nu = Delta s pitch / lambda (rp_diffraction_setup): a Gaussian core of
 // weight RP_DIFF_CORE_WEIGHT plus a Cauchy law (1 + rho^2 / a^2)^(-3/2) a^-2 / (2 pi) of the rest
@@ -3339,7 +3344,7 @@ vec2 rp_aperture_moments(in rp_material m, vec3 d, vec3 mk) {
 vec2 rp_diffraction_shape(in rp_material m, float peak, float slope) {
     float w = RP_DIFF_CORE_WEIGHT;
     float a = slope / (float(1.0) - w);
-    float tailPeak = m.fidelity == RP_FIDELITY_FAST ? RP_DIFF_TAIL_PEAK_FAST : RP_DIFF_TAIL_PEAK;
+    float tailPeak = rp_diffraction_tail_peak(m);
     float corePeak = max(peak - (float(1.0) - w) * tailPeak / (float(2.0) * RP_PI * a * a),
                         RP_DIFF_MIN_CORE_PEAK * peak);
     return vec2(w / (float(2.0) * RP_PI * corePeak), a);
@@ -3398,7 +3403,7 @@ void rp_diffraction_setup(in rp_material m, inout rp_incident s, float sinThetaI
     vec2 whole = rp_diffraction_shape(m, peak, slope);
     vec3 form = vec3(RP_DIFF_CORE_WEIGHT, float(1.0), float(1.0));
     s.diffCoherent = ce.x;
-    float tailPeak = m.fidelity == RP_FIDELITY_FAST ? RP_DIFF_TAIL_PEAK_FAST : RP_DIFF_TAIL_PEAK;
+    float tailPeak = rp_diffraction_tail_peak(m);
     // The orders' share on the axis (its core a donut, only its tail there), per unit weight.
     float ordersAxis = float(0.0);
     if (ce.x < float(1.0)) {
