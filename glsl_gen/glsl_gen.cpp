@@ -5,11 +5,11 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <regex>
 #include <sstream>
 #include <stdexcept>
 
@@ -101,6 +101,65 @@ std::string select_regions(const std::string& text, const std::string& file,
     return out;
 }
 
+// Identifier characters, for the whole-word matching below.
+bool word_char(char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+}
+
+// The position of the next occurrence of `word` at or after `from` that stands alone: no
+// identifier character just before it when it begins with one, nor just after it when it ends
+// with one (a regular expression's \b on each side). npos when there is none.
+size_t find_word(const std::string& s, const std::string& word, size_t from) {
+    for (size_t at = s.find(word, from); at != std::string::npos; at = s.find(word, at + 1)) {
+        const size_t end = at + word.size();
+        if (word_char(word.front()) && at > 0 && word_char(s[at - 1])) continue;
+        if (word_char(word.back()) && end < s.size() && word_char(s[end])) continue;
+        return at;
+    }
+    return std::string::npos;
+}
+
+// Every whole-word `word` replaced by `with`; with `readsOnly`, not where it is assigned (the
+// next non-blank character an '=' that does not begin "==").
+std::string replace_word(const std::string& s, const std::string& word, const std::string& with,
+                         bool readsOnly = false) {
+    std::string out;
+    size_t from = 0;
+    for (size_t at = find_word(s, word, 0); at != std::string::npos;
+         at = find_word(s, word, at + word.size())) {
+        if (readsOnly) {
+            size_t next = s.find_first_not_of(" \t\r\n\f\v", at + word.size());
+            if (next != std::string::npos && s[next] == '=' && next + 1 < s.size() &&
+                s[next + 1] != '=')
+                continue;
+        }
+        out.append(s, from, at - from);
+        out += with;
+        from = at + word.size();
+    }
+    out.append(s, from, std::string::npos);
+    return out;
+}
+
+// Every whole-word call `name(identifier)` replaced by `with` followed by the identifier.
+std::string replace_call(const std::string& s, const std::string& name, const std::string& with) {
+    std::string out;
+    size_t from = 0;
+    const std::string open = name + "(";
+    for (size_t at = find_word(s, open, 0); at != std::string::npos;
+         at = find_word(s, open, at + open.size())) {
+        size_t end = at + open.size();
+        while (end < s.size() && word_char(s[end]))
+            ++end;
+        if (end == at + open.size() || end >= s.size() || s[end] != ')') continue;
+        out.append(s, from, at - from);
+        out += with + s.substr(at + open.size(), end - at - open.size());
+        from = end + 1;
+    }
+    out.append(s, from, std::string::npos);
+    return out;
+}
+
 // A GLSL float literal that round-trips a float.
 std::string lit(double x) {
     char buf[40];
@@ -118,16 +177,28 @@ std::string lit(double x) {
 // one grows with the square of its element count: four values to an element compile the full
 // library several times faster (docs/ARCHITECTURE.md).
 std::string pack_tables(const std::string& text) {
-    static const std::regex begin(R"(RP_TABLE_BEGIN\((\w+), (\d+)\))");
+    const std::string begin = "RP_TABLE_BEGIN(";
     std::string out;
     std::vector<std::string> names;
-    auto pos = text.cbegin();
-    std::smatch m;
-    while (std::regex_search(pos, text.cend(), m, begin)) {
-        out.append(pos, m[0].first);
-        const std::string name = m[1];
-        const size_t n = std::stoul(m[2]);
-        const size_t bodyStart = size_t(m[0].second - text.cbegin());
+    size_t pos = 0;
+    for (size_t at = find_word(text, begin, 0); at != std::string::npos;
+         at = find_word(text, begin, pos)) {
+        // RP_TABLE_BEGIN(name, n)
+        const size_t nameStart = at + begin.size();
+        size_t nameEnd = nameStart;
+        while (nameEnd < text.size() && word_char(text[nameEnd]))
+            ++nameEnd;
+        size_t countEnd = nameEnd + 2;
+        while (countEnd < text.size() && std::isdigit(static_cast<unsigned char>(text[countEnd])))
+            ++countEnd;
+        if (nameEnd == nameStart || text.compare(nameEnd, 2, ", ") != 0 ||
+            countEnd == nameEnd + 2 || countEnd >= text.size() || text[countEnd] != ')')
+            throw std::runtime_error("RP_TABLE_BEGIN at offset " + std::to_string(at) +
+                                     ": not of the form RP_TABLE_BEGIN(name, count)");
+        out.append(text, pos, at - pos);
+        const std::string name = text.substr(nameStart, nameEnd - nameStart);
+        const size_t n = std::stoul(text.substr(nameEnd + 2, countEnd - nameEnd - 2));
+        const size_t bodyStart = countEnd + 1;
         const size_t bodyEnd = text.find("RP_TABLE_END", bodyStart);
         if (bodyEnd == std::string::npos)
             throw std::runtime_error("table " + name + ": no RP_TABLE_END");
@@ -149,16 +220,16 @@ std::string pack_tables(const std::string& text) {
                    (i + 4 < values.size() ? "," : "");
         out += ");\nfloat " + name + "_at(int i) {\n    return " + name + "_v4[i >> 2][i & 3];\n}";
         names.push_back(name);
-        pos = text.cbegin() + std::ptrdiff_t(bodyEnd + std::string("RP_TABLE_END").size());
+        pos = bodyEnd + std::string("RP_TABLE_END").size();
     }
-    out.append(pos, text.cend());
+    out.append(text, pos, std::string::npos);
     // Accesses name[index] -> name_at(index), the index's own brackets matched.
     for (const std::string& name : names) {
-        const std::regex access("\\b" + name + "\\[");
         std::string rewritten;
         size_t from = 0;
-        for (std::sregex_iterator it(out.begin(), out.end(), access), endIt; it != endIt; ++it) {
-            const size_t open = size_t(it->position()) + name.size();
+        for (size_t at = find_word(out, name + "[", 0); at != std::string::npos;
+             at = find_word(out, name + "[", from)) {
+            const size_t open = at + name.size();
             size_t close = open + 1;
             for (int depth = 1; close < out.size(); ++close) {
                 depth += out[close] == '[' ? 1 : out[close] == ']' ? -1 : 0;
@@ -180,17 +251,13 @@ std::string fix_modes(std::string s, const Variant& v);
 
 std::string fix_modes(std::string s, const Variant& v) {
     // A fixed mode is a constant wherever it is read (its assignment in rp_prepare stays).
-    if (v.era_mode >= 0)
-        s = std::regex_replace(s, std::regex(R"(\bm\.era_mode\b(?!\s*=[^=]))"),
-                               kEraConst[v.era_mode]);
+    if (v.era_mode >= 0) s = replace_word(s, "m.era_mode", kEraConst[v.era_mode], true);
     if (v.prism_reflection >= 0)
-        s = std::regex_replace(s, std::regex(R"(\bm\.prism_reflection\b(?!\s*=[^=]))"),
-                               kPrismConst[v.prism_reflection]);
+        s = replace_word(s, "m.prism_reflection", kPrismConst[v.prism_reflection], true);
     if (v.fidelity >= 0) {
-        s = std::regex_replace(s, std::regex(R"(\bm\.fidelity\b(?!\s*=[^=]))"),
-                               kFidelityConst[v.fidelity]);
-        s = std::regex_replace(s, std::regex(R"(\(fidelity == )"),
-                               std::string("(") + kFidelityConst[v.fidelity] + " == ");
+        s = replace_word(s, "m.fidelity", kFidelityConst[v.fidelity], true);
+        s = replace_word(s,
+                         "(fidelity == ", std::string("(") + kFidelityConst[v.fidelity] + " == ");
     }
     return s;
 }
@@ -198,12 +265,12 @@ std::string fix_modes(std::string s, const Variant& v) {
 // The common-subset spellings as GLSL.
 std::string to_glsl(std::string s, const Variant& v) {
     s = fix_modes(s, v);
-    s = std::regex_replace(s, std::regex(R"(\bRP_FN(_HOT|_COLD)? )"), "");
-    s = std::regex_replace(s, std::regex(R"(\bRP_OUT\((\w+)\))"), "out $1");
-    s = std::regex_replace(s, std::regex(R"(\bRP_INOUT\((\w+)\))"), "inout $1");
-    s = std::regex_replace(s, std::regex(R"(\bRP_IN\((\w+)\))"), "in $1");
-    s = std::regex_replace(s, std::regex(R"(\breal\b)"), "float");
-    return s;
+    for (const char* fn : {"RP_FN ", "RP_FN_HOT ", "RP_FN_COLD "})
+        s = replace_word(s, fn, "");
+    s = replace_call(s, "RP_OUT", "out ");
+    s = replace_call(s, "RP_INOUT", "inout ");
+    s = replace_call(s, "RP_IN", "in ");
+    return replace_word(s, "real", "float");
 }
 
 std::string entry_point(const Variant& v) {
