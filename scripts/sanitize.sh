@@ -19,7 +19,7 @@ bash "$root/scripts/setup-debian.sh"
 flags="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer"
 # Warnings stay errors, except -Wmaybe-uninitialized: with -fsanitize=address GCC 12 reports
 # it falsely inside libstdc++'s <regex> (std::function moved in _NFA::_M_insert_subexpr_begin),
-# which glsl_gen.cpp uses; the normal build (scripts/build.sh) keeps it an error.
+# which backends/mx_night.cpp uses; the normal build (scripts/build.sh) keeps it an error.
 # No Python module here: an instrumented extension cannot load into Debian's uninstrumented
 # python3 (ASan's runtime must come first), and so neither the `python` nor the `install` entry
 # (whose consumer links the instrumented libraries without the runtime) exists in this build.
