@@ -53,15 +53,34 @@ struct Direct {
 };
 
 using Brdf = std::function<double(const dvec3&, const dvec3&)>;
+// A BRDF as the direct integration calls it: for one incident direction (a point of the
+// footprint), the function of the outgoing direction it evaluates over the aperture.
+using BrdfFrom = std::function<std::function<double(const dvec3&)>(const dvec3&)>;
 
 // The node of `material` at `nm`, red channel, in the local frame.
-Brdf node_at(const Params& material, double nm) {
-    const auto node = std::make_shared<PrismaticRetroreflector<double>>(
+std::shared_ptr<const PrismaticRetroreflector<double>> node_of(const Params& material, double nm) {
+    return std::make_shared<const PrismaticRetroreflector<double>>(
         PrismaticRetroreflector<double>(ra_params(material)).at_wavelength(nm));
+}
+Brdf node_at(const Params& material, double nm) {
+    const auto node = node_of(material, nm);
     return [node](const dvec3& wi, const dvec3& wo) { return node->f(wi, wo).total()[0]; };
 }
+// The same node through its incident state (f(incident(wi), wo), which [consistency] holds equal
+// to f(wi, wo) bit for bit): the state made once per footprint point, not once per aperture point.
+BrdfFrom node_from(const Params& material, double nm) {
+    const auto node = node_of(material, nm);
+    return [node](const dvec3& wi) {
+        return
+            [node, in = node->incident(wi)](const dvec3& wo) { return node->f(in, wo).total()[0]; };
+    };
+}
+BrdfFrom from(const LidarBrdf& f) {
+    return [f](const dvec3& wi) { return [f, wi](const dvec3& wo) { return f(wi, wo); }; };
+}
 
-double direct_return(const Brdf& f, const LidarSensor& s, const LidarTarget& t, const Direct& d) {
+double direct_return(const BrdfFrom& brdf, const LidarSensor& s, const LidarTarget& t,
+                     const Direct& d) {
     const double b = t.entrance_deg * kDeg, e = t.rotation_deg * kDeg;
     const dvec3 c(0, 0, t.range_m), n(std::sin(b), 0, -std::cos(b));
     const dvec3 wAxis(-std::cos(b), 0, -std::sin(b)), hAxis(0, 1, 0);
@@ -71,6 +90,7 @@ double direct_return(const Brdf& f, const LidarSensor& s, const LidarTarget& t, 
     auto rhoAp = [&](const dvec3& x) {
         const dvec3 wiW = glm::normalize(-x);
         const dvec3 wi(glm::dot(wiW, tng), glm::dot(wiW, bit), glm::dot(wiW, n));
+        const auto f = brdf(wi);
         const double h = 2.0 * a / d.aperture;
         double sum = 0;
         int inside = 0;
@@ -85,7 +105,7 @@ double direct_return(const Brdf& f, const LidarSensor& s, const LidarTarget& t, 
                 const dvec3 woW = v / std::sqrt(r2);
                 const dvec3 wo(glm::dot(woW, tng), glm::dot(woW, bit), glm::dot(woW, n));
                 if (wo.z <= 0) continue;
-                sum += f(wi, wo) * wo.z * (-woW.z) / r2;
+                sum += f(wo) * wo.z * (-woW.z) / r2;
             }
         return sum * kPi * a * a / inside;
     };
@@ -215,9 +235,9 @@ TEST_CASE("LiDAR: the bundled materials against a direct integration within 1%",
     // rules' own error at these grids (the disc's edge cells), printed beside.
     for (const Case& c : cases()) {
         const LidarReturn r = lidar_return(lidar_node_brdf(c.material, c.nm), c.sensor, c.target);
-        const double direct = direct_return(node_at(c.material, c.nm), c.sensor, c.target, {});
-        const double lambert =
-            direct_return(lambertian_brdf(1.0), c.sensor, c.target, {}) / r.lambertian_fraction;
+        const double direct = direct_return(node_from(c.material, c.nm), c.sensor, c.target, {});
+        const double lambert = direct_return(from(lambertian_brdf(1.0)), c.sensor, c.target, {}) /
+                               r.lambertian_fraction;
         const double dev = r.fraction / direct - 1.0;
         std::printf("[lidar] %-66s library %.5e direct %.5e deviation %+.1e (Lambertian %+.1e; "
                     "observation %.3f mrad, equivalent reflectance %.4g)\n",
