@@ -129,6 +129,14 @@ struct core;
                        int& lobe) {                                                                \
         return NS::rp_sample(m, wi, u, wo, r, pdf, lobe);                                          \
     }                                                                                              \
+    static bool sample_incident(const material& m, const incident& s, vec3 wi, vec3 u, vec3& wo,   \
+                                lobes& r, real& pdf, int& lobe) {                                  \
+        return NS::rp_sample_incident(m, s, wi, u, wo, r, pdf, lobe);                              \
+    }                                                                                              \
+    static void eval_lobes_pdf(const material& m, const incident& s, vec3 wi, vec3 wo, lobes& r,   \
+                               real& pdf) {                                                        \
+        NS::rp_eval_lobes_pdf(m, s, wi, wo, true, r, pdf);                                         \
+    }                                                                                              \
     static void setup(const material& m, vec3 wi, incident& s) {                                   \
         NS::rp_incident_setup(m, wi, s);                                                           \
     }                                                                                              \

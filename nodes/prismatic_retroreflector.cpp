@@ -359,7 +359,7 @@ PrismaticRetroreflector<Real>::incident(const vec3& wiWorld) const {
     // rp_eval_impl's conditions on wi and the weight; wo's are checked per direction.
     if (!to_local(wiWorld, in.wi) || !(in.wi.z >= Real(f64::RP_MIN_COS)) || !(m_.weight > Real(0)))
         return in;
-    core<Real>::incident_lobes(m_, in.wi, in.s);
+    core<Real>::setup(m_, in.wi, in.s);
     in.valid = true;
     return in;
 }
@@ -380,6 +380,23 @@ Real PrismaticRetroreflector<Real>::pdf(const vec3& wi, const vec3& wo) const {
 }
 
 template <class Real>
+typename PrismaticRetroreflector<Real>::Eval
+PrismaticRetroreflector<Real>::eval(const Incident& in, const vec3& woWorld) const {
+    vec3 wo;
+    Eval e;
+    if (!in.valid || !to_local(woWorld, wo) || !(wo.z >= Real(f64::RP_MIN_COS))) return e;
+    typename core<Real>::lobes r;
+    core<Real>::eval_lobes_pdf(m_, in.s, in.wi, wo, r, e.pdf);
+    e.f = {r.surface, r.retro, r.diffuse};
+    return e;
+}
+
+template <class Real>
+Real PrismaticRetroreflector<Real>::pdf(const Incident& in, const vec3& wo) const {
+    return eval(in, wo).pdf;
+}
+
+template <class Real>
 std::optional<typename PrismaticRetroreflector<Real>::Sample>
 PrismaticRetroreflector<Real>::sample(const vec3& wiWorld, const vec3& u) const {
     vec3 wi;
@@ -389,6 +406,25 @@ PrismaticRetroreflector<Real>::sample(const vec3& wiWorld, const vec3& u) const 
     Real pdf = 0;
     int lobe = -1;
     if (!core<Real>::sample(m_, wi, u, wo, r, pdf, lobe)) return std::nullopt;
+    return sampled(wo, r, pdf, lobe);
+}
+
+template <class Real>
+std::optional<typename PrismaticRetroreflector<Real>::Sample>
+PrismaticRetroreflector<Real>::sample(const Incident& in, const vec3& u) const {
+    if (!in.valid) return std::nullopt;
+    vec3 wo;
+    typename core<Real>::lobes r;
+    Real pdf = 0;
+    int lobe = -1;
+    if (!core<Real>::sample_incident(m_, in.s, in.wi, u, wo, r, pdf, lobe)) return std::nullopt;
+    return sampled(wo, r, pdf, lobe);
+}
+
+template <class Real>
+typename PrismaticRetroreflector<Real>::Sample
+PrismaticRetroreflector<Real>::sampled(const vec3& wo, const typename core<Real>::lobes& r,
+                                       Real pdf, int lobe) const {
     Sample s;
     s.wo = to_world(wo);
     s.f.surface = r.surface;

@@ -264,19 +264,23 @@ class PrismaticRetroreflector {
     // f alone: eval() without the pdf, cheaper (no mixture weights), for light loops that do not
     // weight by the sampling pdf; the same values as eval().f.
     Lobes f(const vec3& wi, const vec3& wo) const;
-    // The state of one incident direction (its lobes' widths, the ERA and, with a prism pitch,
-    // the diffraction pattern of the prisms' apertures), made once for many outgoing directions:
-    // f(incident(wi), wo) is f(wi, wo), bit for bit, at the cost of the lobes alone. For a
-    // receiver's aperture integrated against one source (analysis/lidar.h), or any loop over
-    // outgoing directions with the incident one fixed. A state belongs to the node that made it
-    // (it holds that material's widths and pattern); pass it to no other.
+    // The state of one incident direction (its lobes' widths and mixture weights, the ERA and,
+    // with a prism pitch, the diffraction pattern of the prisms' apertures), made once for many
+    // outgoing directions or samples: f, eval, pdf and sample from incident(wi) are those from
+    // wi, bit for bit, at the cost of the lobes alone. For a receiver's aperture integrated
+    // against one source (analysis/lidar.h), a shading point's light and BSDF samples (eval
+    // and sample at one wi), or any loop with the incident direction fixed. A state belongs to
+    // the node that made it (it holds that material's widths and pattern); pass it to no other.
     struct Incident {
         vec3 wi{0};                        // local frame
-        typename core<Real>::incident s{}; // rp_incident_lobes's
-        bool valid = false;                // false: wi below the horizon or weight 0 (f is 0)
+        typename core<Real>::incident s{}; // rp_incident_setup's
+        bool valid = false;                // false: wi below the horizon or weight 0 (all 0)
     };
     Incident incident(const vec3& wi) const;
     Lobes f(const Incident& in, const vec3& wo) const;
+    Eval eval(const Incident& in, const vec3& wo) const;
+    Real pdf(const Incident& in, const vec3& wo) const;
+    std::optional<Sample> sample(const Incident& in, const vec3& u) const;
     Real pdf(const vec3& wi, const vec3& wo) const;
     // u in [0, 1)^3: u.z chooses the lobe, u.x and u.y sample it.
     std::optional<Sample> sample(const vec3& wi, const vec3& u) const;
@@ -311,6 +315,8 @@ class PrismaticRetroreflector {
     vec3 to_world(const vec3& local) const;
 
   private:
+    // The sample at local direction wo, its lobes' values, pdf and lobe, in the world frame.
+    Sample sampled(const vec3& wo, const typename core<Real>::lobes& r, Real pdf, int lobe) const;
     vec3 diffraction_albedo(const vec3& wi, const typename core<Real>::incident& s, int grid) const;
 
     Params params_;

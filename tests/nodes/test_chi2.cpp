@@ -443,10 +443,13 @@ Chi2Result run_case(const Chi2Case& cs) {
     if (cs.kind == kMixture) {
         Params sp = cs.params;
         sp.roughness *= cs.samplerRoughnessScale;
+        // The node's samples from wi's incident state, made once (the same samples as
+        // sample(wi, u), bit for bit: [consistency]).
         const retroprism::PrismaticRetroreflector<double> node(sp);
+        const auto in = node.incident(wi);
         for (long i = 0; i < kSamples; ++i) {
             const double u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform();
-            const auto smp = node.sample(wi, dvec3(u1, u2, u3));
+            const auto smp = node.sample(in, dvec3(u1, u2, u3));
             if (!smp) {
                 ++hist.back();
                 continue;
@@ -497,6 +500,7 @@ Chi2Result run_case(const Chi2Case& cs) {
     std::vector<double> prob;
     if (cs.kind == kMixture) {
         const retroprism::PrismaticRetroreflector<double> node(cs.params);
+        const auto in = node.incident(wi);
         std::vector<Peak> peaks;
         double t, p;
         g.coords(mirror, t, p);
@@ -505,7 +509,7 @@ Chi2Result run_case(const Chi2Case& cs) {
         peaks.push_back({t, p, 6.0 * retroWidth});
         const double minCos = f64::RP_MIN_COS; // node.sample and node.pdf: wo.z >= RP_MIN_COS
         prob = integrate_grid(
-            g, [&](const dvec3& w) { return node.pdf(wi, w); }, minCos, 2.0, peaks, res.quad);
+            g, [&](const dvec3& w) { return node.pdf(in, w); }, minCos, 2.0, peaks, res.quad);
         // Below the horizon: sum over the lobes of P_k times the lobe's mass there.
         f64::rp_incident sn;
         f64::rp_incident_setup(node.core_material(), wi, sn);

@@ -368,20 +368,24 @@ TEMPLATE_TEST_CASE("consistency: f() equals eval().f", "[consistency]", double, 
     CHECK(differ == 0);
 }
 
-// f(incident(wi), wo) is f(wi, wo): the incident state made once, the same lobe arithmetic, so
-// the same bits; with several outgoing directions per incident one (as the LiDAR aperture
-// integrals use it), directions below the horizon on either side, and the corners' diffracting
-// materials.
-TEMPLATE_TEST_CASE("consistency: f(incident(wi), wo) equals f(wi, wo)", "[consistency]", double,
-                   float) {
+// f, eval, pdf and sample from incident(wi) are those from wi: the incident state made once,
+// the same lobe arithmetic, so the same bits; with several outgoing directions and samples per
+// incident direction (as the LiDAR aperture integrals and a shading point's light and BSDF
+// samples use it), directions below the horizon on either side, u at its range ends, and the
+// corners' diffracting materials.
+TEMPLATE_TEST_CASE("consistency: f, eval, pdf and sample from incident(wi) equal those from wi",
+                   "[consistency]", double, float) {
     using Node = PrismaticRetroreflector<TestType>;
     using vec3 = typename Node::vec3;
+    const auto same = [](const typename Node::Lobes& a, const typename Node::Lobes& b) {
+        return a.surface == b.surface && a.retro == b.retro && a.diffuse == b.diffuse;
+    };
     rptest::Rng rng(0x1c1du);
-    long checked = 0, differ = 0, invalid = 0;
+    long checked = 0, differ = 0, invalid = 0, samples = 0, empty = 0, sampleDiffer = 0;
     for (const rptest::Corner& corner : rptest::parameter_corners()) {
         const Node node(corner.params);
         for (int k = 0; k < 16; ++k) {
-            // Every eighth wi below the horizon: its state is invalid and f is 0.
+            // Every eighth wi below the horizon: its state is invalid and everything is 0.
             vec3 wi(rptest::dir_deg(89.9 * rng.uniform(), 360.0 * rng.uniform()));
             if (k % 8 == 7) wi.z = -wi.z;
             const typename Node::Incident in = node.incident(wi);
@@ -392,17 +396,31 @@ TEMPLATE_TEST_CASE("consistency: f(incident(wi), wo) equals f(wi, wo)", "[consis
                     wo = glm::normalize(wi + vec3(TestType(0.01) * vec3(rng.uniform())));
                 if (j % 4 == 1) wo = vec3(-wi.x, -wi.y, wi.z);
                 if (j % 4 == 2) wo.z = -wo.z;
-                const auto a = node.f(in, wo);
-                const auto b = node.f(wi, wo);
+                const auto ea = node.eval(in, wo), eb = node.eval(wi, wo);
                 ++checked;
-                differ += !(a.surface == b.surface && a.retro == b.retro && a.diffuse == b.diffuse);
+                differ += !same(node.f(in, wo), node.f(wi, wo)) || !same(ea.f, eb.f) ||
+                          !(ea.pdf == eb.pdf) || !(node.pdf(in, wo) == node.pdf(wi, wo));
+                // u random, then at its range ends (0 and the largest below 1).
+                const TestType top = std::nextafter(TestType(1), TestType(0));
+                const vec3 u = j < 6 ? vec3(TestType(rng.uniform()), TestType(rng.uniform()),
+                                            TestType(rng.uniform()))
+                                     : vec3(j == 6 ? TestType(0) : top);
+                const auto sa = node.sample(in, u), sb = node.sample(wi, u);
+                ++samples;
+                empty += !sb;
+                sampleDiffer += sa.has_value() != sb.has_value() ||
+                                (sa && !(sa->wo == sb->wo && same(sa->f, sb->f) &&
+                                         sa->pdf == sb->pdf && sa->lobe == sb->lobe));
             }
         }
     }
-    std::printf("MEASURED: consistency (%s): f(incident(wi), wo) vs f(wi, wo) at %ld pairs (%ld "
-                "incident directions below the horizon), %ld differ\n",
-                Tol<TestType>::name, checked, invalid, differ);
+    std::printf("MEASURED: consistency (%s): f, eval and pdf from incident(wi) vs from wi at %ld "
+                "pairs (%ld incident directions below the horizon), %ld differ; sample at %ld "
+                "(%ld empty), %ld differ\n",
+                Tol<TestType>::name, checked, invalid, differ, samples, empty, sampleDiffer);
     CHECK(checked > 1000);
     CHECK(invalid > 0);
+    CHECK(samples - empty > 1000);
     CHECK(differ == 0);
+    CHECK(sampleDiffer == 0);
 }

@@ -4110,21 +4110,24 @@ bool rp_eval_f(in rp_material m, vec3 wi, vec3 wo, out rp_lobes r) {
     return rp_eval_impl(m, wi, wo, false, r, pdf);
 }
 
-// One-sample mixture: u.z picks the lobe, (u.x, u.y) sample its direction. Returns false
-// (an empty sample) when wi is below the horizon, nothing reflects, or the sampled
-// direction falls below the horizon; otherwise wo, the lobes' values at wo, the mixture pdf
-// and the lobe that was sampled.
-bool rp_sample(in rp_material m, vec3 wi, vec3 u, out vec3 wo, out rp_lobes r,
-                     out float pdf, out int lobe) {
+// The empty sample: no direction, no lobe, every value 0.
+void rp_sample_clear(out vec3 wo, out rp_lobes r, out float pdf,
+                           out int lobe) {
     wo = vec3(float(0.0));
     r.surface = vec3(float(0.0));
     r.retro = vec3(float(0.0));
     r.diffuse = vec3(float(0.0));
     pdf = float(0.0);
     lobe = -1;
+}
+
+// rp_sample for wi's incident state s (rp_incident_setup's, the mixture weights included), made
+// once for many samples: the same sample, bit for bit.
+bool rp_sample_incident(in rp_material m, in rp_incident s, vec3 wi, vec3 u,
+                              out vec3 wo, out rp_lobes r, out float pdf,
+                              out int lobe) {
+    rp_sample_clear(wo, r, pdf, lobe);
     if (!(wi.z >= RP_MIN_COS) || !(m.weight > float(0.0))) return false;
-    rp_incident s;
-    rp_incident_setup(m, wi, s);
     float uLobe = rp_sanitize(u.z, float(0.0), float(1.0), float(0.0));
     if (!(s.lobeProb.x + s.lobeProb.y + s.lobeProb.z > float(0.0))) return false;
     // The last lobe with a non-zero probability also takes uLobe = 1.
@@ -4152,6 +4155,21 @@ bool rp_sample(in rp_material m, vec3 wi, vec3 u, out vec3 wo, out rp_lobes r,
         return false;
     }
     return true;
+}
+
+// One-sample mixture: u.z picks the lobe, (u.x, u.y) sample its direction. Returns false
+// (an empty sample) when wi is below the horizon, nothing reflects, or the sampled
+// direction falls below the horizon; otherwise wo, the lobes' values at wo, the mixture pdf
+// and the lobe that was sampled.
+bool rp_sample(in rp_material m, vec3 wi, vec3 u, out vec3 wo, out rp_lobes r,
+                     out float pdf, out int lobe) {
+    if (!(wi.z >= RP_MIN_COS) || !(m.weight > float(0.0))) {
+        rp_sample_clear(wo, r, pdf, lobe);
+        return false;
+    }
+    rp_incident s;
+    rp_incident_setup(m, wi, s);
+    return rp_sample_incident(m, s, wi, u, wo, r, pdf, lobe);
 }
 
 float rp_fdr_external(float eta) {
