@@ -1129,8 +1129,12 @@ Tally sweep_gl_backend(Backend& gl, const Options& opt) {
 } // namespace
 
 Options quick_options(const std::string& backend) {
+    return quick_options(backend, backend == "materialx" ? 13 : 7);
+}
+
+Options quick_options(const std::string& backend, int pairStride) {
     Options opt;
-    opt.pair_stride = backend == "materialx" ? 13 : 7;
+    opt.pair_stride = std::max(1, pairStride);
     const long materials = hard_material_count();
     const long perMaterial = long(pairs_per_material()) / opt.pair_stride + 1;
     opt.cpp_evaluations = std::max(1000000L, materials * perMaterial);

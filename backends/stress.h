@@ -30,6 +30,9 @@ struct Options {
 // backends and 5e5 for glsl; materialx the hard materials alone. A tenth of the full sweep's
 // C++ evaluations, half of its GL ones.
 Options quick_options(const std::string& backend);
+// The same on every pairStride-th direction pair (at least 1): materialx's budget is still the
+// hard materials alone, now at that stride.
+Options quick_options(const std::string& backend, int pairStride);
 
 // The full sweep sized by `cppEvaluations` per C++ backend (`check --stress --evaluations N`):
 // GL backends get a tenth of it, as in the default Options.

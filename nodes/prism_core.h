@@ -137,6 +137,9 @@ struct core;
                                real& pdf) {                                                        \
         NS::rp_eval_lobes_pdf(m, s, wi, wo, true, r, pdf);                                         \
     }                                                                                              \
+    static bool reflects(const material& m, vec3 wi) {                                             \
+        return NS::rp_incident_reflects(m, wi);                                                    \
+    }                                                                                              \
     static void setup(const material& m, vec3 wi, incident& s) {                                   \
         NS::rp_incident_setup(m, wi, s);                                                           \
     }                                                                                              \

@@ -356,19 +356,24 @@ template <class Real>
 typename PrismaticRetroreflector<Real>::Incident
 PrismaticRetroreflector<Real>::incident(const vec3& wiWorld) const {
     Incident in;
-    // rp_eval_impl's conditions on wi and the weight; wo's are checked per direction.
-    if (!to_local(wiWorld, in.wi) || !(in.wi.z >= Real(f64::RP_MIN_COS)) || !(m_.weight > Real(0)))
-        return in;
+    // The entry points' condition on wi and the weight; wo's is checked per direction (outgoing).
+    if (!to_local(wiWorld, in.wi) || !core<Real>::reflects(m_, in.wi)) return in;
     core<Real>::setup(m_, in.wi, in.s);
     in.valid = true;
     return in;
 }
 
 template <class Real>
+bool PrismaticRetroreflector<Real>::outgoing(const Incident& in, const vec3& woWorld,
+                                             vec3& wo) const {
+    return in.valid && to_local(woWorld, wo) && wo.z >= Real(f64::RP_MIN_COS);
+}
+
+template <class Real>
 typename PrismaticRetroreflector<Real>::Lobes
 PrismaticRetroreflector<Real>::f(const Incident& in, const vec3& woWorld) const {
     vec3 wo;
-    if (!in.valid || !to_local(woWorld, wo) || !(wo.z >= Real(f64::RP_MIN_COS))) return Lobes();
+    if (!outgoing(in, woWorld, wo)) return Lobes();
     typename core<Real>::lobes r;
     core<Real>::eval_lobes(m_, in.s, in.wi, wo, r);
     return {r.surface, r.retro, r.diffuse};
@@ -384,7 +389,7 @@ typename PrismaticRetroreflector<Real>::Eval
 PrismaticRetroreflector<Real>::eval(const Incident& in, const vec3& woWorld) const {
     vec3 wo;
     Eval e;
-    if (!in.valid || !to_local(woWorld, wo) || !(wo.z >= Real(f64::RP_MIN_COS))) return e;
+    if (!outgoing(in, woWorld, wo)) return e;
     typename core<Real>::lobes r;
     core<Real>::eval_lobes_pdf(m_, in.s, in.wi, wo, r, e.pdf);
     e.f = {r.surface, r.retro, r.diffuse};
@@ -489,7 +494,7 @@ typename PrismaticRetroreflector<Real>::Albedo
 PrismaticRetroreflector<Real>::albedo(const vec3& wiWorld, int grid) const {
     Albedo out;
     vec3 wi;
-    if (!to_local(wiWorld, wi) || !(wi.z >= Real(f64::RP_MIN_COS)) || !(m_.weight > 0)) return out;
+    if (!to_local(wiWorld, wi) || !core<Real>::reflects(m_, wi)) return out;
     typename core<Real>::incident s;
     core<Real>::setup(m_, wi, s);
     // Diffuse, exactly: T_i (1 - E) k_d (1 - F_dr_ext) / (eta^2 (1 - k_d F_dr)).

@@ -315,6 +315,9 @@ class PrismaticRetroreflector {
     vec3 to_world(const vec3& local) const;
 
   private:
+    // wo in the local frame, true when the state is valid and wo above the horizon (what f, eval
+    // and pdf from a state evaluate).
+    bool outgoing(const Incident& in, const vec3& woWorld, vec3& wo) const;
     // The sample at local direction wo, its lobes' values, pdf and lobe, in the world frame.
     Sample sampled(const vec3& wo, const typename core<Real>::lobes& r, Real pdf, int lobe) const;
     vec3 diffraction_albedo(const vec3& wi, const typename core<Real>::incident& s, int grid) const;

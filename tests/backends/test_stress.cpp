@@ -56,12 +56,7 @@ stress::Tally bounded_sweep(const std::string& backend) {
     // each, through the same runner code; every hard material still goes through all of it.
     // Its 420,000 draws (140,000 pairs, three lobes) took 160 s there, 23 s in the release
     // build. The release suite's stress_ci keeps every 13th pair.
-    if (backend == "materialx") {
-        opt.pair_stride *= 3;
-        opt.gl_evaluations =
-            stress::hard_material_count() *
-            (long(stress::stress_pairs(Params(), true, 0).size()) / opt.pair_stride + 1);
-    }
+    if (backend == "materialx") opt = stress::quick_options(backend, 3 * opt.pair_stride);
 #endif
     const stress::Tally t = stress::sweep_backend(backend, opt);
     StressTable table(stress::coverage(), stdout);

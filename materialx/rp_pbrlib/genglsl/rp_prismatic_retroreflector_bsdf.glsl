@@ -4078,6 +4078,12 @@ vec3 rp_lobe_sample(in rp_material m, in rp_incident s, vec3 wi, int lobe, float
 
 // ---- Entry points (local frame) ---------------------------------------------------------
 
+// True when light from wi reflects at all: wi above the horizon (wi.z >= RP_MIN_COS) and a
+// positive weight; every entry point's condition on wi.
+bool rp_incident_reflects(in rp_material m, vec3 wi) {
+    return wi.z >= RP_MIN_COS && m.weight > float(0.0);
+}
+
 // f at (wi, wo) and, when wantPdf (callers pass a constant), the sampling pdf (0 otherwise);
 // returns false (everything 0) when either direction is below the horizon. Without the pdf the
 // incident state leaves out the mixture weights.
@@ -4087,7 +4093,7 @@ bool rp_eval_impl(in rp_material m, vec3 wi, vec3 wo, bool wantPdf,
     r.retro = vec3(float(0.0));
     r.diffuse = vec3(float(0.0));
     pdf = float(0.0);
-    if (!(wi.z >= RP_MIN_COS && wo.z >= RP_MIN_COS) || !(m.weight > float(0.0))) return false;
+    if (!rp_incident_reflects(m, wi) || !(wo.z >= RP_MIN_COS)) return false;
     rp_incident s;
     if (wantPdf) {
         rp_incident_setup(m, wi, s);
@@ -4122,12 +4128,12 @@ void rp_sample_clear(out vec3 wo, out rp_lobes r, out float pdf,
 }
 
 // rp_sample for wi's incident state s (rp_incident_setup's, the mixture weights included), made
-// once for many samples: the same sample, bit for bit.
+// once for many samples: the same sample, bit for bit. wi must reflect (rp_incident_reflects),
+// as it does wherever such a state is made.
 bool rp_sample_incident(in rp_material m, in rp_incident s, vec3 wi, vec3 u,
                               out vec3 wo, out rp_lobes r, out float pdf,
                               out int lobe) {
     rp_sample_clear(wo, r, pdf, lobe);
-    if (!(wi.z >= RP_MIN_COS) || !(m.weight > float(0.0))) return false;
     float uLobe = rp_sanitize(u.z, float(0.0), float(1.0), float(0.0));
     if (!(s.lobeProb.x + s.lobeProb.y + s.lobeProb.z > float(0.0))) return false;
     // The last lobe with a non-zero probability also takes uLobe = 1.
@@ -4163,7 +4169,7 @@ bool rp_sample_incident(in rp_material m, in rp_incident s, vec3 wi, vec3 u,
 // and the lobe that was sampled.
 bool rp_sample(in rp_material m, vec3 wi, vec3 u, out vec3 wo, out rp_lobes r,
                      out float pdf, out int lobe) {
-    if (!(wi.z >= RP_MIN_COS) || !(m.weight > float(0.0))) {
+    if (!rp_incident_reflects(m, wi)) {
         rp_sample_clear(wo, r, pdf, lobe);
         return false;
     }
