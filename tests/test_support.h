@@ -13,6 +13,15 @@ namespace rptest {
 using retroprism::Params;
 using dvec3 = glm::dvec3;
 
+// True in the instrumented builds (scripts/sanitize.sh, scripts/tsan.sh), where a few long
+// sweeps take a subset of their points: there they are run for the sanitizers' reports, which
+// the same code paths at fewer points give; the release suite runs every point.
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+constexpr bool kInstrumented = true;
+#else
+constexpr bool kInstrumented = false;
+#endif
+
 // Unit direction at polar angle theta and azimuth phi (degrees) in the local frame.
 dvec3 dir_deg(double thetaDeg, double phiDeg);
 

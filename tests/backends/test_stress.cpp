@@ -50,14 +50,13 @@ stress::Tally bounded_sweep(const std::string& backend) {
     // then random hard materials: 1e6 evaluations for the C++ backends, 5e5 for glsl; materialx
     // on every 13th pair of the hard materials alone.
     stress::Options opt = stress::quick_options(backend);
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
     // Instrumented (scripts/sanitize.sh), materialx takes every third of its pairs (every 39th
     // of each hard material's): the pairs reach MaterialX's shader only as uniforms, one draw
     // each, through the same runner code; every hard material still goes through all of it.
     // Its 420,000 draws (140,000 pairs, three lobes) took 160 s there, 23 s in the release
     // build. The release suite's stress_ci keeps every 13th pair.
-    if (backend == "materialx") opt = stress::quick_options(backend, 3 * opt.pair_stride);
-#endif
+    if (rptest::kInstrumented && backend == "materialx")
+        opt = stress::quick_options(backend, 3 * opt.pair_stride);
     const stress::Tally t = stress::sweep_backend(backend, opt);
     StressTable table(stress::coverage(), stdout);
     table.add(t);

@@ -971,8 +971,11 @@ TEST_CASE("Canted ERA matches an independent polygon clipper in every ERA mode",
     // over the full turn. A is continuous in azimuth with kinks, so the rule's error is
     // O(h^2), about 1e-8 here, checked by halving (<= 1e-7); the closed form is exact, so the
     // bound is the reference's.
+    // Instrumented, every other cant: the reference's 2.2 million clippings took 50 s there.
     double worstAveraged = 0.0;
+    int cantIndex = 0;
     for (double cant : cants) {
+        if (rptest::kInstrumented && cantIndex++ % 2 != 0) continue;
         Params p;
         p.cant_angle = cant;
         const auto m = material_of(p);
@@ -1390,7 +1393,7 @@ TEST_CASE("White sheet reflects at most 1.003 of the incident energy", "[physics
                              50, 55, 60, 65, 70, 75, 80, 85, 89.0, 89.9};
     double maxTotal = 0.0;
     std::string maxWhere;
-    long negative = 0, over = 0;
+    long negative = 0, over = 0, evaluated = 0;
     const auto corners = rptest::parameter_corners();
     for (const auto& corner : corners) {
         Params p = corner.params;
@@ -1403,6 +1406,11 @@ TEST_CASE("White sheet reflects at most 1.003 of the incident energy", "[physics
         for (double th : thetas) {
             // Azimuth varies with theta so the oriented modes see several prism azimuths.
             const dvec3 wi = dir_deg(th, 13.0 + 37.0 * ti++);
+            // Instrumented, every third angle and the last (0, 15, ..., 75, 89 and 89.9 deg):
+            // every corner's code paths at 8 angles (the release build's 20 took 64 s there).
+            if (rptest::kInstrumented && (ti - 1) % 3 != 0 && ti != int(std::size(thetas)))
+                continue;
+            ++evaluated;
             const auto a = node.albedo(wi, 64);
             const dvec3 tot = a.total();
             for (int c = 0; c < 3; ++c) {
@@ -1430,9 +1438,9 @@ TEST_CASE("White sheet reflects at most 1.003 of the incident energy", "[physics
     CHECK(over == 0);
     // The sweep is not vacuous: some corner reflects most of the light.
     CHECK(maxTotal > 0.9);
-    std::printf("MEASURED: white-sheet energy: %zu corners x 20 theta_i, max total albedo = "
+    std::printf("MEASURED: white-sheet energy: %zu corners x %ld theta_i, max total albedo = "
                 "%.5f at %s\n",
-                corners.size(), maxTotal, maxWhere.c_str());
+                corners.size(), evaluated / long(corners.size()), maxTotal, maxWhere.c_str());
 }
 
 // ------------------------------------------------------------------------------------------
