@@ -135,6 +135,32 @@ void bm_construct(benchmark::State& state, Params p, bool kept) {
     }
 }
 
+// kPairs shading points (shading_rows): point i's incident direction is pair i's, its light
+// directions the outgoing directions of pairs i to i + kShadingLights - 1 (cyclically), its
+// BSDF sample's random numbers Prepared's; each call from wi, or from incident(wi) (reuse).
+void bm_shading(benchmark::State& state, Params p, bool reuse) {
+    using Node = PrismaticRetroreflector<float>;
+    const Node node(p);
+    const Prepared<Float> d(p);
+    for (auto _ : state) {
+        for (int i = 0; i < kPairs; ++i) {
+            const Node::vec3& wi = d.wi[size_t(i)];
+            const Node::vec3& u = d.u[size_t(i)];
+            if (reuse) {
+                const Node::Incident in = node.incident(wi);
+                for (int k = 0; k < kShadingLights; ++k)
+                    benchmark::DoNotOptimize(node.eval(in, d.wo[size_t((i + k) % kPairs)]));
+                benchmark::DoNotOptimize(node.sample(in, u));
+            } else {
+                for (int k = 0; k < kShadingLights; ++k)
+                    benchmark::DoNotOptimize(node.eval(wi, d.wo[size_t((i + k) % kPairs)]));
+                benchmark::DoNotOptimize(node.sample(wi, u));
+            }
+        }
+    }
+    state.SetItemsProcessed(int64_t(state.iterations()) * kPairs);
+}
+
 // f and the sampling pdf (rp_eval), as a renderer's light loop with MIS asks for them.
 template <class A>
 void bm_eval_pdf(benchmark::State& state, Params p) {
@@ -439,14 +465,15 @@ const std::vector<Row>& rows() {
         mrmBatch.baseline = true;
         out.push_back(mrmBatch);
         construction_rows();
+        shading_rows();
         return out;
     }();
     return all;
 }
 
-const std::vector<ConstructionRow>& construction_rows() {
-    static const std::vector<ConstructionRow> all = [] {
-        std::vector<ConstructionRow> out;
+const std::vector<PairedRow>& construction_rows() {
+    static const std::vector<PairedRow> all = [] {
+        std::vector<PairedRow> out;
         auto add = [&](const std::string& name, const std::string& config, const Params& p) {
             benchmark::RegisterBenchmark(("construct/" + name).c_str(), bm_construct, p, false);
             benchmark::RegisterBenchmark(("construct/" + name + "_kept").c_str(), bm_construct, p,
@@ -463,6 +490,30 @@ const std::vector<ConstructionRow>& construction_rows() {
         Params metal = canted;
         metal.prism_reflection = f64::RP_PRISM_METALLIZED;
         add("canted_metal", "cant -11 deg, metallised prisms (ERA and face hits), ior 1.49", metal);
+        return out;
+    }();
+    return all;
+}
+
+const std::vector<PairedRow>& shading_rows() {
+    static const std::vector<PairedRow> all = [] {
+        std::vector<PairedRow> out;
+        auto add = [&](const std::string& name, const std::string& config, const Params& p) {
+            benchmark::RegisterBenchmark(("shading/" + name).c_str(), bm_shading, p, false);
+            benchmark::RegisterBenchmark(("shading/" + name + "_state").c_str(), bm_shading, p,
+                                         true);
+            out.push_back({name, config});
+        };
+        const Params ideal = material(0, 0), tir = material(1, 0);
+        add("exact", "ideal prisms, exact tier", ideal);
+        add("exact_tir", "uncoated prisms, exact tier", tir);
+        Params diffraction = ideal, tirDiffraction = tir;
+        diffraction.prism_pitch = tirDiffraction.prism_pitch = 160.0;
+        add("exact_diffraction_rgb", "ideal prisms, pitch 160 um per colour channel", diffraction);
+        add("exact_tir_diffraction_rgb", "uncoated prisms, pitch 160 um per colour channel",
+            tirDiffraction);
+        diffraction.wavelength = 905.0;
+        add("exact_diffraction_905", "ideal prisms, pitch 160 um at 905 nm", diffraction);
         return out;
     }();
     return all;

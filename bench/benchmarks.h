@@ -41,15 +41,27 @@ const std::vector<Row>& rows();
 // Evaluations per benchmark iteration (the direction-pair set's size).
 constexpr int kPairs = 1024;
 
+// A row of two timings of one material (the node's construction, a shading point): its name
+// (the benchmarks' stem) and material.
+struct PairedRow {
+    std::string name;
+    std::string config;
+};
+
 // Making a node (PrismaticRetroreflector<float>) of a material whose azimuth averages the node
 // keeps as series (canted cubes; uncoated ones in the exact tier): benchmark "construct/<name>"
 // makes a node of a material not made before each time (its ior one float step apart from the
 // last over 1000 values, more than the series the process keeps), "construct/<name>_kept" one of
 // the same material each time (its series kept by azimuth_series). Registered with rows().
-struct ConstructionRow {
-    std::string name;
-    std::string config;
-};
-const std::vector<ConstructionRow>& construction_rows();
+const std::vector<PairedRow>& construction_rows();
+
+// A shading point as a path tracer visits it: kShadingLights light samples evaluated (eval: f and
+// the sampling pdf, for multiple importance sampling) and one BSDF sample, all at one incident
+// direction, through the float node's API (PrismaticRetroreflector<float>): benchmark
+// "shading/<name>" passes wi to every call, "shading/<name>_state" makes the node's incident state
+// once per point (incident(wi)) and passes it. Over kPairs points (the rows' incident
+// directions). Registered with rows().
+constexpr int kShadingLights = 4;
+const std::vector<PairedRow>& shading_rows();
 
 } // namespace retroprism::bench

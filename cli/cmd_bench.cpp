@@ -61,31 +61,41 @@ std::string fmt_err(double e) {
     return b;
 }
 
-// Node construction: ms per node of a material made for the first time, and per node whose
-// series the process kept.
-struct Construction {
-    const bench::ConstructionRow* row;
-    double msMade, msKept;
+// Two timings per material (bench::PairedRow): benchmarks "<prefix><name>" and
+// "<prefix><name><suffix>", each over `per` (ns per unit: 1e6 for ms per node, kPairs for ns per
+// shading point).
+struct Paired {
+    const bench::PairedRow* row;
+    double first, second;
 };
 
-std::vector<Construction> constructions_of(Collector& collector) {
-    std::vector<Construction> out;
-    for (const bench::ConstructionRow& c : bench::construction_rows())
-        out.push_back({&c, collector.ns["construct/" + c.name] * 1e-6,
-                       collector.ns["construct/" + c.name + "_kept"] * 1e-6});
+std::vector<Paired> paired_of(Collector& collector, const std::vector<bench::PairedRow>& rows,
+                              const std::string& prefix, const std::string& suffix, double per) {
+    std::vector<Paired> out;
+    for (const bench::PairedRow& c : rows)
+        out.push_back({&c, collector.ns[prefix + c.name] / per,
+                       collector.ns[prefix + c.name + suffix] / per});
     return out;
 }
 
-void print_constructions(const std::vector<Construction>& constructions) {
-    std::printf("\n%-19s %10s %10s %9s  %s\n", "node construction", "ms made", "ms kept",
-                "made/kept", "material");
-    for (const Construction& c : constructions)
-        std::printf("%-19s %10.3f %10.4f %9.0f  %s\n", c.row->name.c_str(), c.msMade, c.msKept,
-                    c.msKept > 0 ? c.msMade / c.msKept : 0.0, c.row->config.c_str());
-    std::printf("(made: a material not made before in the process, its azimuth-average series "
-                "made; kept: one made before, its series copied from those the process keeps, the "
-                "last %d)\n",
-                kSeriesCacheEntries);
+// The paired timings as JSON rows: name, config and the two timings under the keys given.
+nlohmann::json paired_json(const std::vector<Paired>& rows, const char* first, const char* second) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const Paired& c : rows)
+        out.push_back({{"name", c.row->name},
+                       {"config", c.row->config},
+                       {first, c.first},
+                       {second, c.second}});
+    return out;
+}
+
+// The table of paired timings, each row with the ratio first / second.
+void print_paired(const std::vector<Paired>& rows, const char* title, const char* first,
+                  const char* second, const char* ratio, const char* format) {
+    std::printf("\n%-26s %10s %10s %9s  %s\n", title, first, second, ratio, "material");
+    for (const Paired& c : rows)
+        std::printf(format, c.row->name.c_str(), c.first, c.second,
+                    c.second > 0 ? c.first / c.second : 0.0, c.row->config.c_str());
 }
 
 // The GLSL variants' cost and MaterialX's own generated shaders' (bench/mx_cost.h), as tables
@@ -215,17 +225,17 @@ int cmd_bench(int argc, const char** argv) {
     for (Result& r : results)
         r.ratio = mrm > 0 ? r.nsEval / mrm : 0;
 
-    const std::vector<Construction> constructions = constructions_of(collector);
+    const std::vector<Paired> constructions =
+        paired_of(collector, bench::construction_rows(), "construct/", "_kept", 1e6);
+    const std::vector<Paired> shadings =
+        paired_of(collector, bench::shading_rows(), "shading/", "_state", bench::kPairs);
 
     auto opt = [](double v) { return v >= 0 ? nlohmann::json(v) : nlohmann::json(nullptr); };
     if (ap["json"].get<int>()) {
-        nlohmann::json out = {{"rows", nlohmann::json::array()},
-                              {"construction", nlohmann::json::array()}};
-        for (const Construction& c : constructions)
-            out["construction"].push_back({{"name", c.row->name},
-                                           {"config", c.row->config},
-                                           {"ms_made", c.msMade},
-                                           {"ms_kept", c.msKept}});
+        nlohmann::json out = {
+            {"rows", nlohmann::json::array()},
+            {"construction", paired_json(constructions, "ms_made", "ms_kept")},
+            {"shading_point", paired_json(shadings, "ns_from_wi", "ns_from_state")}};
         for (const Result& r : results)
             out["rows"].push_back({{"name", r.row->name},
                                    {"tier", r.row->tier},
@@ -281,7 +291,18 @@ int cmd_bench(int argc, const char** argv) {
             "(configurations with the row's prisms; the model's own error dominates). %u "
             "hardware threads.\n",
             std::thread::hardware_concurrency());
-        print_constructions(constructions);
+        print_paired(constructions, "node construction", "ms made", "ms kept", "made/kept",
+                     "%-26s %10.3f %10.4f %9.0f  %s\n");
+        std::printf("(made: a material not made before in the process, its azimuth-average series "
+                    "made; kept: one made before, its series copied from those the process keeps, "
+                    "the last %d)\n",
+                    kSeriesCacheEntries);
+        print_paired(shadings, "shading point", "ns from wi", "ns state", "wi/state",
+                     "%-26s %10.1f %10.1f %9.2f  %s\n");
+        std::printf("(a shading point: %d light samples evaluated with their pdf and one BSDF "
+                    "sample at one incident direction, float node; from wi: each call passes wi; "
+                    "state: incident(wi) made once, each call passes it)\n",
+                    bench::kShadingLights);
     }
     const std::string plotPath = ap["plot"].get<std::string>();
     if (!plotPath.empty()) write_plot(results, plotPath);

@@ -287,6 +287,13 @@ TEST_CASE("bench --json prints the trade table's rows", "[cli]") {
         CHECK(c["ms_kept"].get<double>() > 0);
     }
     CHECK(out["construction"][0]["name"] == "exact_tir");
+    // A shading point from wi and from the incident state, for each of its materials.
+    REQUIRE(out["shading_point"].size() == 5);
+    for (const json& c : out["shading_point"]) {
+        CHECK(c["ns_from_wi"].get<double>() > 0);
+        CHECK(c["ns_from_state"].get<double>() > 0);
+    }
+    CHECK(out["shading_point"][2]["name"] == "exact_diffraction_rgb");
     CHECK(run("bench --min-time 100").status != 0);
     for (const char* reps : {"0", "21", "2.5", "x"}) {
         const Run bad = run(std::string("bench --repetitions ") + reps);
