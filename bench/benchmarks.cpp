@@ -350,6 +350,17 @@ Row batch_row(const std::string& name, const std::string& tier, const Params& p,
     return r;
 }
 
+// A PairedRow of material p: benchmark bm registered as "<prefix><name>" (bm(p, false)) and
+// "<prefix><name><suffix>" (bm(p, true)).
+PairedRow paired_row(void (*bm)(benchmark::State&, Params, bool), const std::string& prefix,
+                     const std::string& suffix, const std::string& name, const std::string& config,
+                     const Params& p) {
+    PairedRow r{name, config, prefix + name, prefix + name + suffix};
+    benchmark::RegisterBenchmark(r.first.c_str(), bm, p, false);
+    benchmark::RegisterBenchmark(r.second.c_str(), bm, p, true);
+    return r;
+}
+
 template <class B>
 Row baseline_row(const std::string& name, const std::string& config, B model) {
     benchmark::RegisterBenchmark(("eval/" + name).c_str(), bm_baseline<B>, model);
@@ -475,10 +486,7 @@ const std::vector<PairedRow>& construction_rows() {
     static const std::vector<PairedRow> all = [] {
         std::vector<PairedRow> out;
         auto add = [&](const std::string& name, const std::string& config, const Params& p) {
-            benchmark::RegisterBenchmark(("construct/" + name).c_str(), bm_construct, p, false);
-            benchmark::RegisterBenchmark(("construct/" + name + "_kept").c_str(), bm_construct, p,
-                                         true);
-            out.push_back({name, config});
+            out.push_back(paired_row(bm_construct, "construct/", "_kept", name, config, p));
         };
         Params tir;
         tir.prism_reflection = f64::RP_PRISM_TIR;
@@ -499,10 +507,7 @@ const std::vector<PairedRow>& shading_rows() {
     static const std::vector<PairedRow> all = [] {
         std::vector<PairedRow> out;
         auto add = [&](const std::string& name, const std::string& config, const Params& p) {
-            benchmark::RegisterBenchmark(("shading/" + name).c_str(), bm_shading, p, false);
-            benchmark::RegisterBenchmark(("shading/" + name + "_state").c_str(), bm_shading, p,
-                                         true);
-            out.push_back({name, config});
+            out.push_back(paired_row(bm_shading, "shading/", "_state", name, config, p));
         };
         const Params ideal = material(0, 0), tir = material(1, 0);
         add("exact", "ideal prisms, exact tier", ideal);

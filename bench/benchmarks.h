@@ -41,11 +41,12 @@ const std::vector<Row>& rows();
 // Evaluations per benchmark iteration (the direction-pair set's size).
 constexpr int kPairs = 1024;
 
-// A row of two timings of one material (the node's construction, a shading point): its name
-// (the benchmarks' stem) and material.
+// A row of two timings of one material (the node's construction, a shading point): its name,
+// its material and the names of its two Google Benchmark benchmarks.
 struct PairedRow {
     std::string name;
     std::string config;
+    std::string first, second;
 };
 
 // Making a node (PrismaticRetroreflector<float>) of a material whose azimuth averages the node

@@ -61,20 +61,18 @@ std::string fmt_err(double e) {
     return b;
 }
 
-// Two timings per material (bench::PairedRow): benchmarks "<prefix><name>" and
-// "<prefix><name><suffix>", each over `per` (ns per unit: 1e6 for ms per node, kPairs for ns per
-// shading point).
+// Two timings per material (bench::PairedRow): its two benchmarks' times, each over `per` (ns
+// per unit: 1e6 for ms per node, kPairs for ns per shading point).
 struct Paired {
     const bench::PairedRow* row;
     double first, second;
 };
 
 std::vector<Paired> paired_of(Collector& collector, const std::vector<bench::PairedRow>& rows,
-                              const std::string& prefix, const std::string& suffix, double per) {
+                              double per) {
     std::vector<Paired> out;
     for (const bench::PairedRow& c : rows)
-        out.push_back({&c, collector.ns[prefix + c.name] / per,
-                       collector.ns[prefix + c.name + suffix] / per});
+        out.push_back({&c, collector.ns[c.first] / per, collector.ns[c.second] / per});
     return out;
 }
 
@@ -225,10 +223,8 @@ int cmd_bench(int argc, const char** argv) {
     for (Result& r : results)
         r.ratio = mrm > 0 ? r.nsEval / mrm : 0;
 
-    const std::vector<Paired> constructions =
-        paired_of(collector, bench::construction_rows(), "construct/", "_kept", 1e6);
-    const std::vector<Paired> shadings =
-        paired_of(collector, bench::shading_rows(), "shading/", "_state", bench::kPairs);
+    const std::vector<Paired> constructions = paired_of(collector, bench::construction_rows(), 1e6);
+    const std::vector<Paired> shadings = paired_of(collector, bench::shading_rows(), bench::kPairs);
 
     auto opt = [](double v) { return v >= 0 ? nlohmann::json(v) : nlohmann::json(nullptr); };
     if (ap["json"].get<int>()) {

@@ -11,8 +11,8 @@
 # the C++ reference and the render runner, runs instrumented in `document` and in stress_ci's
 # materialx sweep) and the long accuracy sweeps `wave_ci`, `glsl_ci` and `lidar_ci`, which
 # repeat with more points the code paths their fast entries run here: the adversarial sweep
-# `stress_ci` stays, its inputs being the ones the sanitizers are for. Arguments go to ctest instead (e.g. -R cli). BUILD_DIR overrides the build
-# folder.
+# `stress_ci` stays, its inputs being the ones the sanitizers are for. Arguments go to ctest
+# instead (e.g. -R cli). BUILD_DIR overrides the build folder.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${BUILD_DIR:-$root/build-asan}"
