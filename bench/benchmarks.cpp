@@ -447,6 +447,15 @@ const std::vector<Row>& rows() {
         out.push_back(node_row<Float>("fast_diffraction", "fast", all3,
                                       "ideal prisms, pitch 160 um at 550 nm, fast tier",
                                       diffractionFast, diffraction, 7));
+        // A smooth top surface (roughness 5e-4), whose geometric lobe is narrow against the
+        // pattern's rings: the exact tier evaluates the pattern itself (rp_diffraction_pattern).
+        Params pattern = diffraction;
+        pattern.roughness = 5e-4;
+        pattern.wavelength = 905.0;
+        out.push_back(node_row<Float>("exact_diffraction_pattern", "exact", all3,
+                                      "ideal prisms, pitch 160 um at 905 nm, roughness 5e-4: the "
+                                      "pattern itself",
+                                      pattern, pattern, 7));
         baselines::LambertT<float> lambert;
         baselines::BeckmannCookTorranceT<float> ct;
         ct.roughness = 0.05f;
@@ -519,6 +528,9 @@ const std::vector<PairedRow>& shading_rows() {
             tirDiffraction);
         diffraction.wavelength = 905.0;
         add("exact_diffraction_905", "ideal prisms, pitch 160 um at 905 nm", diffraction);
+        diffraction.roughness = 5e-4;
+        add("exact_pattern_905", "ideal prisms, pitch 160 um at 905 nm, roughness 5e-4",
+            diffraction);
         return out;
     }();
     return all;

@@ -124,7 +124,7 @@ NodeWaveCounts node_wave_counts(const std::vector<double>& ratios) {
     return n;
 }
 
-NodeWaveTable node_wave_table(int threads) {
+NodeWaveTable node_wave_table(int fidelity, double pitchSpread, int threads) {
     std::vector<NodeWaveCase> cases;
     for (int prism : {0, 1})
         for (double pitch : {100.0, 250.0})
@@ -133,9 +133,10 @@ NodeWaveTable node_wave_table(int threads) {
                     cases.push_back({prism, pitch, nm, entrance});
     Params material;
     material.ior = 1.49;
+    material.fidelity = fidelity;
     NodeWaveTable t;
-    t.profiles = node_wave_profiles(material, cases, kNodeWaveTableObservations,
-                                    kNodeWaveTablePitchSpread, threads);
+    t.profiles =
+        node_wave_profiles(material, cases, kNodeWaveTableObservations, pitchSpread, threads);
     std::vector<double> ratios;
     for (const NodeWaveProfile& p : t.profiles)
         for (double r : node_wave_ratios(p))

@@ -70,10 +70,13 @@ NodeWaveCounts node_wave_counts(const std::vector<double>& ratios);
 // The ratios node / wave of a profile.
 std::vector<double> node_wave_ratios(const NodeWaveProfile& p);
 
-// The standard table (the [wave][ci] test, docs/diffraction.md): ideal and uncoated faces, ior
-// 1.49 (otherwise the node's defaults), pitches 100 and 250 um, 550, 905 and 1550 nm, entrance
-// -4, 15, 30 and 45 deg, observation 0.1-2 deg (kNodeWaveTableObservations), the wave optics'
-// pitches spread +-15%: its profiles, in that nesting order, and their counts over all entries.
+// The standard tables (the [wave][ci] test, docs/diffraction.md): ideal and uncoated faces, ior
+// 1.49 and the node's fidelity tier `fidelity` (0 exact, 1 fast; otherwise the node's defaults),
+// pitches 100 and 250 um, 550, 905 and 1550 nm, entrance -4, 15, 30 and 45 deg, observation
+// 0.1-2 deg (kNodeWaveTableObservations), the wave optics' pitches spread +-pitchSpread: its
+// profiles, in that nesting order, and their counts over all entries. The exact tier's table is
+// taken at one pitch (spread 0: the pattern the exact tier evaluates), the fast tier's at
+// kNodeWaveTablePitchSpread (prisms of several sizes, whose rings its smooth form fills).
 inline const std::vector<double> kNodeWaveTableObservations = {0.1, 0.2, 0.33, 0.5,
                                                                0.7, 1.0, 1.5,  2.0};
 constexpr double kNodeWaveTablePitchSpread = 0.15;
@@ -81,7 +84,7 @@ struct NodeWaveTable {
     std::vector<NodeWaveProfile> profiles;
     NodeWaveCounts counts;
 };
-NodeWaveTable node_wave_table(int threads = 0);
+NodeWaveTable node_wave_table(int fidelity, double pitchSpread, int threads = 0);
 
 } // namespace wave
 } // namespace sim

@@ -117,7 +117,9 @@ std::vector<Corner> parameter_corners() {
             }
     // Diffraction at the prism aperture (prism_pitch), per colour channel or at one wavelength,
     // from a pitch far below the wavelength (the pattern wider than the hemisphere) to 2 mm, with
-    // every ERA mode, a dispersion, dihedral errors and a cant, and the fast tier.
+    // every ERA mode, a dispersion, dihedral errors and a cant, and the fast tier; the last two
+    // ideal and metallised prisms whose geometric lobe is narrow against the pattern's rings, so
+    // that the exact tier evaluates the pattern itself (fully, and damped by a ring of spots).
     struct Diffracting {
         double roughness, ior, pitch, wavelength, abbe, dihedral, cant;
         int era, prism, fidelity;
@@ -127,7 +129,9 @@ std::vector<Corner> parameter_corners() {
                                        {1e-4, 3.0, 100.0, 1550.0, 0.0, 8.0, -20.0, 2, 0, 1},
                                        {1.0, 1.0, 10.0, 0.0, 30.0, 60.0, 0.0, 0, 2, 0},
                                        {1e-4, 1.49, 2000.0, 400.0, 57.0, 0.0, 10.0, 0, 1, 1},
-                                       {0.05, 1.586, 0.01, 0.0, 0.0, 4.0, 0.0, 0, 0, 0}};
+                                       {0.05, 1.586, 0.01, 0.0, 0.0, 4.0, 0.0, 0, 0, 0},
+                                       {1e-4, 1.49, 160.0, 0.0, 0.0, 0.0, 0.0, 0, 0, 0},
+                                       {0.002, 1.586, 100.0, 905.0, 30.0, 3.0, 10.0, 1, 2, 0}};
     for (const Diffracting& d : diffracting) {
         Params p;
         p.roughness = d.roughness;

@@ -1881,6 +1881,15 @@ const float RP_DIFF_MAX_WIDTH2 = float(1.0);
 const float RP_DIFF_MIN_PITCH_UM = float(0.001);
 // The least share of the pattern's peak left to its core.
 const float RP_DIFF_MIN_CORE_PEAK = float(0.05);
+// The exact tier's pattern (rp_diffraction_residual) is left out where the geometric lobe damps
+// its rings below this factor: its correction is then a thousandth of the difference between the
+// pattern and its smooth form, which the form's convolution with the lobe already holds.
+const float RP_DIFF_EXACT_MIN_DAMP = float(1e-3);
+// lambda / pitch up to which the exact tier takes the pattern itself, and from which it no longer
+// does (between, a linear blend): the pattern keeps about 5% of its light beyond nu = 10, which at
+// lambda / pitch 0.06 lies 0.6 off the retro direction, where the paraxial pattern stands for
+// nothing (the smooth form holds its terms to slopes of 1 instead, RP_DIFF_MAX_WIDTH2).
+const vec2 RP_DIFF_EXACT_SCALE = vec2(float(0.03), float(0.06));
 // Uncoated and metallised prisms' face orders (rp_diffraction_coherence): the coherent share c
 // of the pattern's peak, and the weight of the edges between orders in its tail (0 for orders
 // that interfere as one aperture, 1 for orders that do not, more where neighbouring orders'
@@ -3211,7 +3220,9 @@ struct rp_incident {
     float geoPerp2;       // ring's stretch
     float ringPar2;       // diffraction: the ring of spots' second moments in the slopes along and
     float ringPerp2;      // across the plane of incidence (0 for perfect cubes)
-    vec3 lobeProb;       // P(surface), P(retro), P(diffuse); zero vector when nothing reflects
+    float diffBlur; // diffraction: the geometric lobe's variance in Delta s times the aperture's
+                   // squared width (rp_diffraction_setup; 0 without a pitch)
+    vec3 lobeProb; // P(surface), P(retro), P(diffuse); zero vector when nothing reflects
 };
 
 float rp_mean3(vec3 c) {
@@ -3258,12 +3269,17 @@ float rp_aperture_edge(float mk, float mi, float mj) {
 // [1 - m_k - m_j, min(m_i, 1 - m_k)], both intersected with [0, 1], and a unit of l_i is the
 // edge's length; the ray from O_d = m / 2 toward vertex k leaves at t = min(1, m_k / (2 - m_k)),
 // and T and T' is centrally symmetric about O_d, so the ray toward T''s vertex k is as long.
-// rp_aperture_measures_at takes the bounds mk (rp_aperture_bounds, all positive).
-vec4 rp_aperture_measures_at(in rp_material m, vec3 mk) {
+// rp_aperture_measures_at takes the bounds mk (rp_aperture_bounds, all positive), as does
+// rp_aperture_area (A alone).
+float rp_aperture_area(vec3 mk) {
     vec3 l = vec3(float(1.0)) - mk;
     float frac =
         clamp(float(1.0) - l.x * abs(l.x) - l.y * abs(l.y) - l.z * abs(l.z), float(0.0), float(1.0));
-    float area = frac * RP_INV_SQRT3;
+    return frac * RP_INV_SQRT3;
+}
+
+vec4 rp_aperture_measures_at(in rp_material m, vec3 mk) {
+    float area = rp_aperture_area(mk);
     float perim = rp_aperture_edge(mk.x, mk.y, mk.z) * m.ap_edge.x;
     perim += rp_aperture_edge(mk.y, mk.z, mk.x) * m.ap_edge.y;
     perim += rp_aperture_edge(mk.z, mk.x, mk.y) * m.ap_edge.z;
@@ -3329,6 +3345,97 @@ vec2 rp_aperture_moments(in rp_material m, vec3 d, vec3 mk) {
     return moments;
 }
 
+// The prisms' orientations of the material's ERA mode as (count, first, step) in radians: one
+// (oriented), the pair (matched_pair) or a midpoint rule of RP_DIFF_ORIENTATIONS over the
+// symmetry period (averaged). A direction d turns into orientation psi's prism frame as
+// (cos psi d.x + sin psi d.y, cos psi d.y - sin psi d.x).
+vec3 rp_diffraction_orientations(in rp_material m) {
+    if (m.era_mode == RP_ERA_MATCHED_PAIR) return vec3(float(2.0), m.ap_rot, RP_PI);
+    if (m.era_mode == RP_ERA_AVERAGED) {
+        float step = m.ap_period / float(RP_DIFF_ORIENTATIONS);
+        return vec3(float(RP_DIFF_ORIENTATIONS), float(0.5) * step, step);
+    }
+    return vec3(float(1.0), m.ap_rot, float(0.0));
+}
+
+// The bounds (rp_aperture_bounds) of orientation i of `orient` (rp_diffraction_orientations) for
+// the inner direction dt in the sheet's frame, and cs = (cos psi, sin psi) of its angle psi:
+// a vector v turns into that prism's frame as (cs.x v.x + cs.y v.y, cs.x v.y - cs.y v.x).
+vec3 rp_diffraction_bounds_at(in rp_material m, vec3 dt, vec3 orient, int i,
+                                    out vec2 cs) {
+    float psi = orient.y + float(i) * orient.z;
+    cs = vec2(cos(psi), sin(psi));
+    return rp_aperture_bounds(m, vec3(cs.x * dt.x + cs.y * dt.y, cs.x * dt.y - cs.y * dt.x, dt.z));
+}
+
+// sin(2 pi t) / (2 pi t) (1 at 0; its series where (2 pi t)^2 < 1e-4, within rounding of the
+// quotient there), the sine taken of t less its nearest whole number: the phase of a far
+// frequency keeps its precision and every backend's sine sees an argument within half a turn.
+float rp_sinc_turns(float t) {
+    float x = float(2.0) * RP_PI * t;
+    float x2 = x * x;
+    if (x2 < float(1e-4)) return float(1.0) - x2 * (float(1.0 / 6.0) - x2 * float(1.0 / 120.0));
+    return sin(float(2.0) * RP_PI * (t - floor(t + float(0.5)))) / x;
+}
+
+// The Fraunhofer transform's terms of T's edge k and of T''s edge k, its image through O_d, at
+// the spatial frequency q = 2 pi nu (radians per pitch; nu given, qhat its direction) for the
+// edge of vertices vi, vj and bounds mi, mj (rp_aperture_edge_moments with base 0) and the centre
+// od: with c the edge's midpoint relative to od, D its vector and N its outward normal times its
+// length, the pair gives 2 (qhat.N)(qhat.c) sinc(q.c) sinc(q.D / 2), float (docs/diffraction.md).
+// Every component is passed by name.
+float rp_aperture_pair_transform(vec2 nu, vec2 qhat, vec2 vi, vec2 vj, float mi, float mj,
+                                      vec2 od) {
+    float lo = max(float(0.0), float(1.0) - mj);
+    float hi = min(mi, float(1.0));
+    if (!(hi > lo)) return float(0.0);
+    vec2 a = lo * vi + (float(1.0) - lo) * vj - od;
+    vec2 b = hi * vi + (float(1.0) - hi) * vj - od;
+    vec2 c = float(0.5) * (a + b);
+    vec2 dv = b - a;
+    vec2 n = vec2(dv.y, -dv.x);
+    if (dot(n, c) < float(0.0)) n = -n;
+    return float(2.0) * dot(qhat, n) * dot(qhat, c) * rp_sinc_turns(dot(nu, c)) *
+           rp_sinc_turns(float(0.5) * dot(nu, dv));
+}
+
+// The Fraunhofer amplitude F = integral over T and T' of exp(-2 pi i nu.(x - O_d)) of one prism
+// (orientation 0, lengths in pitches; nu in cycles per pitch, qhat its direction, any unit vector
+// at nu = 0) for the bounds mk (rp_aperture_bounds, all positive): the polygon is centrally
+// symmetric about O_d, so F is float about it, the sum over its three pairs of opposite edges of
+// rp_aperture_pair_transform. F at 0 is the area (the divergence theorem with the field
+// (qhat.x) qhat), every term bounded as nu goes to 0.
+float rp_aperture_transform(in rp_material m, vec3 mk, vec2 nu, vec2 qhat) {
+    vec2 od = float(0.5) * (mk.x * m.ap_v1 + mk.y * m.ap_v2 + mk.z * m.ap_v3);
+    return rp_aperture_pair_transform(nu, qhat, m.ap_v2, m.ap_v3, mk.y, mk.z, od) +
+           rp_aperture_pair_transform(nu, qhat, m.ap_v3, m.ap_v1, mk.z, mk.x, od) +
+           rp_aperture_pair_transform(nu, qhat, m.ap_v1, m.ap_v2, mk.x, mk.y, od);
+}
+
+// The interfering aperture's Fraunhofer pattern itself at nu (sheet-plane components of
+// Delta s pitch / lambda), for the incident state s: sum_o F_o(2 pi nu)^2 / sum_o A_o over the
+// prisms' orientations of the ERA mode (rp_diffraction_orientations), nu and d turned into each
+// prism's frame; a density of nu that integrates to 1 (Parseval), peak sum A^2 / sum A.
+float rp_diffraction_pattern(in rp_material m, in rp_incident s, vec2 nu) {
+    float len = length(nu);
+    vec2 dir = len > float(0.0) ? nu / len : vec2(float(1.0), float(0.0));
+    vec3 orient = rp_diffraction_orientations(m);
+    int count = int(orient.x);
+    float sumF2 = float(0.0);
+    float sumA = float(0.0);
+    for (int i = 0; i < RP_DIFF_ORIENTATIONS; ++i) {
+        if (i >= count) break;
+        vec2 cs = vec2(float(1.0), float(0.0));
+        vec3 mk = rp_diffraction_bounds_at(m, s.dt, orient, i, cs);
+        if (!(mk.x > float(0.0))) continue;
+        vec2 qhat = vec2(cs.x * dir.x + cs.y * dir.y, cs.x * dir.y - cs.y * dir.x);
+        float f = rp_aperture_transform(m, mk, len * qhat, qhat);
+        sumF2 += f * f;
+        sumA += rp_aperture_area(mk);
+    }
+    return sumA > float(0.0) ? sumF2 / sumA : float(0.0);
+}
+
 // The tail's peak factor C of the material's tier (RP_DIFF_TAIL_PEAK_*): its density on the axis
 // is C / (2 pi a^2) per unit weight for the scale a.
 float rp_diffraction_tail_peak(in rp_material m) {
@@ -3364,29 +3471,16 @@ vec2 rp_diffraction_shape(in rp_material m, float peak, float slope) {
 // share takes the form RP_DIFF_WHOLE_TIR.
 void rp_diffraction_setup(in rp_material m, inout rp_incident s, float sinThetaI,
                                 float cosThetaT) {
-    // The prisms' orientations: one (oriented), the pair (matched_pair) or a midpoint rule of
-    // RP_DIFF_ORIENTATIONS over the symmetry period (averaged); d turned into each prism's frame.
-    int count = 1;
-    float step = float(0.0);
-    float start = m.ap_rot;
-    if (m.era_mode == RP_ERA_MATCHED_PAIR) {
-        count = 2;
-        step = RP_PI;
-    } else if (m.era_mode == RP_ERA_AVERAGED) {
-        count = RP_DIFF_ORIENTATIONS;
-        step = m.ap_period / float(RP_DIFF_ORIENTATIONS);
-        start = float(0.5) * step;
-    }
+    vec3 orient = rp_diffraction_orientations(m);
+    int count = int(orient.x);
     vec4 sum = vec4(float(0.0));
     vec2 moments = vec2(float(0.0));
     for (int i = 0; i < RP_DIFF_ORIENTATIONS; ++i) {
         if (i >= count) break;
-        float psi = start + float(i) * step;
-        float c = cos(psi);
-        float sn = sin(psi);
-        vec3 d = vec3(c * s.dt.x + sn * s.dt.y, c * s.dt.y - sn * s.dt.x, s.dt.z);
-        vec3 mk = rp_aperture_bounds(m, d);
+        vec2 cs = vec2(float(1.0), float(0.0));
+        vec3 mk = rp_diffraction_bounds_at(m, s.dt, orient, i, cs);
         if (!(mk.x > float(0.0))) continue;
+        vec3 d = vec3(cs.x * s.dt.x + cs.y * s.dt.y, cs.x * s.dt.y - cs.y * s.dt.x, s.dt.z);
         vec4 measures = rp_aperture_measures_at(m, mk);
         sum += measures;
         moments += measures.x * rp_aperture_moments(m, d, mk);
@@ -3445,6 +3539,17 @@ void rp_diffraction_setup(in rp_material m, inout rp_incident s, float sinThetaI
     float magPar = m.eta * cosThetaT * s.invCosI;
     s.ringPar2 = m.ring_par * magPar * magPar;
     s.ringPerp2 = max(m.eta * m.eta * m.ring_par - m.ring_tilt * sinThetaI * sinThetaI, float(0.0));
+    // The blur of the pattern itself (rp_diffraction_residual): the geometric lobe's variance in
+    // Delta s, the mean of its two axes' (along the plane of incidence the slopes' times
+    // cos^2 theta_i; the ring of spots' second moments as a variance), times the interfering
+    // aperture's squared width 16 M / A (a disc's squared diameter; M / A the second moment per
+    // axis over the area, the A^2-weighted mean of the prisms').
+    if (sum.y > float(0.0)) {
+        float cosI = float(1.0) / s.invCosI;
+        float varPar = cosI * cosI * (float(0.5) * s.geoPar2 + s.ringPar2);
+        float varPerp = float(0.5) * s.geoPerp2 + s.ringPerp2;
+        s.diffBlur = float(4.0) * (moments.x + moments.y) / sum.y * (varPar + varPerp);
+    }
 }
 
 // The incident state the lobes need (everything but the mixture weights; s.fresI and
@@ -3494,6 +3599,7 @@ void rp_incident_lobes(in rp_material m, vec3 wi, out rp_incident s) {
     s.geoPerp2 = float(1.0);
     s.ringPar2 = float(0.0);
     s.ringPerp2 = float(0.0);
+    s.diffBlur = float(0.0);
     // G1(wi) and G1(mu_t) over one division; a of mu_t is 1 / (alpha tan theta_t), with
     // 1 / sin theta_t = eta / sin theta_i.
     vec2 lambdaT = rp_lambda_ratio(
@@ -3795,15 +3901,24 @@ bool rp_diffraction_grey(in rp_material m) {
     return m.diff_scale.x == m.diff_scale.y && m.diff_scale.y == m.diff_scale.z;
 }
 
-// The retro lobe's direction density p_o about wi with diffraction, per channel (the sampling
-// density is their mean): rp_retro_density's slopes and 1 / cos^3 with rp_diffraction_channel.
-vec3 rp_diffraction_density(in rp_material m, in rp_incident s, vec3 wo, vec3 wi) {
+// wo's slopes (x, y) in the lobe's frame about wi (rp_retro_density's) and 1 / cos of the angle
+// between them (z), or 0 where wo is not in wi's hemisphere.
+vec3 rp_diffraction_slopes(in rp_incident s, vec3 wo, vec3 wi) {
     float cosP = dot(wo, wi);
     if (!(cosP > float(0.0))) return vec3(float(0.0));
     vec3 dw = wo - wi;
     float invCosP = float(1.0) / cosP;
-    float sx = dot(dw, s.ePar) * invCosP;
-    float sy = dot(dw, s.ePerp) * invCosP;
+    return vec3(dot(dw, s.ePar) * invCosP, dot(dw, s.ePerp) * invCosP, invCosP);
+}
+
+// The retro lobe's direction density p_o about wi with diffraction, per channel (the sampling
+// density is their mean): rp_retro_density's slopes and 1 / cos^3 with rp_diffraction_channel.
+vec3 rp_diffraction_density(in rp_material m, in rp_incident s, vec3 wo, vec3 wi) {
+    vec3 sl = rp_diffraction_slopes(s, wo, wi);
+    if (!(sl.z > float(0.0))) return vec3(float(0.0));
+    float sx = sl.x;
+    float sy = sl.y;
+    float invCosP = sl.z;
     float red = rp_diffraction_channel(m, s, m.diff_scale.x, sx, sy);
     vec3 d = vec3(red);
     if (!rp_diffraction_grey(m))
@@ -3813,6 +3928,59 @@ vec3 rp_diffraction_density(in rp_material m, in rp_incident s, vec3 wo, vec3 wi
     // and every channel's density is zero there.
     if (!(d.x > float(0.0) || d.y > float(0.0) || d.z > float(0.0))) return vec3(float(0.0));
     return invCosP * invCosP * invCosP * d;
+}
+
+// The exact tier's correction of the interfering share toward the aperture's pattern itself, in
+// the slopes (sx, sy) for lambda / pitch `scale`: c k (P - W), with W the share's smooth form
+// (rp_diffraction_share without the geometric lobe), P the pattern (rp_diffraction_pattern) at
+// nu = (sx cos theta_i ePar + sy ePerp) / scale in the sheet plane, both densities of the slopes
+// (P times cos theta_i / scale^2), and k = exp(-2 pi^2 s.diffBlur / scale^2) the factor by which
+// the geometric lobe's Gaussian, of variance sigma^2 in nu, damps the pattern's rings (those of a
+// disc of diameter D by exp(-2 pi^2 sigma^2 D^2)), times 1 for lambda / pitch up to
+// RP_DIFF_EXACT_SCALE.x falling linearly to 0 at .y. P - W integrates to 0, so the retro energy is
+// unchanged; where the geometric lobe is narrow against the rings (k near 1) the lobe is the
+// pattern itself, dark rings included, and where it is wide (k below RP_DIFF_EXACT_MIN_DAMP) the
+// smooth form alone. Ideal and metallised faces: uncoated faces' orders do not interfere as one
+// aperture (docs/diffraction.md); the fast tier keeps the smooth form.
+float rp_diffraction_residual(in rp_material m, in rp_incident s, float scale, float sx,
+                                   float sy) {
+    if (m.fidelity != RP_FIDELITY_EXACT || m.prism_reflection == RP_PRISM_TIR ||
+        !(s.diffCore2 > float(0.0)))
+        return float(0.0);
+    float inv2 = float(1.0) / (scale * scale);
+    float paraxial =
+        clamp((RP_DIFF_EXACT_SCALE.y - scale) / (RP_DIFF_EXACT_SCALE.y - RP_DIFF_EXACT_SCALE.x),
+              float(0.0), float(1.0));
+    float k = paraxial * exp(-min(float(2.0) * RP_PI * RP_PI * s.diffBlur * inv2, RP_MAX_EXP));
+    if (!(k >= RP_DIFF_EXACT_MIN_DAMP)) return float(0.0);
+    rp_incident sharp = s;
+    sharp.geoPar2 = float(0.0);
+    sharp.geoPerp2 = float(0.0);
+    sharp.ringPar2 = float(0.0);
+    sharp.ringPerp2 = float(0.0);
+    float form = rp_diffraction_share(m, sharp, scale, sx, sy, s.diffCore2, s.diffTail,
+                                     s.diffCoreWeight, false, s.diffAniso);
+    float cosI = float(1.0) / s.invCosI;
+    vec2 nu = (sx * cosI * vec2(s.ePerp.y, -s.ePerp.x) + sy * vec2(s.ePerp.x, s.ePerp.y)) / scale;
+    float pattern = rp_diffraction_pattern(m, s, nu) * cosI * inv2;
+    return k * s.diffCoherent * (pattern - form);
+}
+
+// The retro lobe's direction density with diffraction per channel, as the lobe's value takes it:
+// the smooth form (rp_diffraction_density, the sampling density) and the exact tier's correction
+// toward the pattern itself (rp_diffraction_residual), floored at 0.
+vec3 rp_diffraction_value(in rp_material m, in rp_incident s, vec3 wo, vec3 wi,
+                                vec3 density) {
+    if (m.fidelity != RP_FIDELITY_EXACT || m.prism_reflection == RP_PRISM_TIR) return density;
+    vec3 sl = rp_diffraction_slopes(s, wo, wi);
+    if (!(sl.z > float(0.0))) return density;
+    float red = rp_diffraction_residual(m, s, m.diff_scale.x, sl.x, sl.y);
+    vec3 r = vec3(red);
+    if (!rp_diffraction_grey(m))
+        r = vec3(red, rp_diffraction_residual(m, s, m.diff_scale.y, sl.x, sl.y),
+                 rp_diffraction_residual(m, s, m.diff_scale.z, sl.x, sl.y));
+    if (!(r.x != float(0.0) || r.y != float(0.0) || r.z != float(0.0))) return density;
+    return max(density + sl.z * sl.z * sl.z * r, vec3(float(0.0)));
 }
 
 // The pattern's terms for the incident state s: the face orders' share first (term 0 its core,
@@ -3926,7 +4094,7 @@ vec3 rp_retro_reciprocal(in rp_material m, vec3 wi, vec3 wo, float factor) {
     if (!(sm.era > float(0.0))) return vec3(float(0.0));
     if (m.diffraction != 0)
         return m.retro_color * (sm.era * sm.g1T * sm.g1T * factor) *
-               rp_diffraction_density(m, sm, wo, wi);
+               rp_diffraction_value(m, sm, wo, wi, rp_diffraction_density(m, sm, wo, wi));
     return m.retro_color * (sm.era * sm.g1T * sm.g1T * rp_retro_density(sm, wo, wi) * factor);
 }
 
@@ -3984,7 +4152,8 @@ void rp_eval_lobes_pdf(in rp_material m, in rp_incident s, vec3 wi, vec3 wo,
                 vec3 po3 = rp_diffraction_density(m, s, wo, wi);
                 float g1OverCosO = lambdaO.y * g2Den * rd;
                 r.retro = m.retro_color *
-                          (s.era * s.transI * s.g1I * s.g1T * s.g1T * transO * g1OverCosO) * po3;
+                          (s.era * s.transI * s.g1I * s.g1T * s.g1T * transO * g1OverCosO) *
+                          rp_diffraction_value(m, s, wo, wi, po3);
                 if (wantPdf) pdf += s.lobeProb.y * rp_mean3(po3);
                 diffracted = true;
             }
