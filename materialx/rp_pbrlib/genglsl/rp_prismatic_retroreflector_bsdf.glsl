@@ -3974,11 +3974,14 @@ vec3 rp_diffraction_value(in rp_material m, in rp_incident s, vec3 wo, vec3 wi,
     if (m.fidelity != RP_FIDELITY_EXACT || m.prism_reflection == RP_PRISM_TIR) return density;
     vec3 sl = rp_diffraction_slopes(s, wo, wi);
     if (!(sl.z > float(0.0))) return density;
-    float red = rp_diffraction_residual(m, s, m.diff_scale.x, sl.x, sl.y);
-    vec3 r = vec3(red);
-    if (!rp_diffraction_grey(m))
-        r = vec3(red, rp_diffraction_residual(m, s, m.diff_scale.y, sl.x, sl.y),
-                 rp_diffraction_residual(m, s, m.diff_scale.z, sl.x, sl.y));
+    // One call site in a loop over the channels: a shader compiles the pattern once.
+    int channels = rp_diffraction_grey(m) ? 1 : 3;
+    vec3 r = vec3(float(0.0));
+    for (int ch = 0; ch < 3; ++ch) {
+        if (ch >= channels) break;
+        r[ch] = rp_diffraction_residual(m, s, m.diff_scale[ch], sl.x, sl.y);
+    }
+    if (channels == 1) r = vec3(r.x);
     if (!(r.x != float(0.0) || r.y != float(0.0) || r.z != float(0.0))) return density;
     return max(density + sl.z * sl.z * sl.z * r, vec3(float(0.0)));
 }
