@@ -3358,14 +3358,19 @@ vec3 rp_diffraction_orientations(in rp_material m) {
     return vec3(float(1.0), m.ap_rot, float(0.0));
 }
 
+// The sheet-plane components v in the frame of a prism turned by psi, cs = (cos psi, sin psi).
+vec2 rp_prism_turn(vec2 cs, vec2 v) {
+    return vec2(cs.x * v.x + cs.y * v.y, cs.x * v.y - cs.y * v.x);
+}
+
 // The bounds (rp_aperture_bounds) of orientation i of `orient` (rp_diffraction_orientations) for
-// the inner direction dt in the sheet's frame, and cs = (cos psi, sin psi) of its angle psi:
-// a vector v turns into that prism's frame as (cs.x v.x + cs.y v.y, cs.x v.y - cs.y v.x).
+// the inner direction dt in the sheet's frame, and cs = (cos psi, sin psi) of its angle psi, by
+// which vectors turn into that prism's frame (rp_prism_turn).
 vec3 rp_diffraction_bounds_at(in rp_material m, vec3 dt, vec3 orient, int i,
                                     out vec2 cs) {
     float psi = orient.y + float(i) * orient.z;
     cs = vec2(cos(psi), sin(psi));
-    return rp_aperture_bounds(m, vec3(cs.x * dt.x + cs.y * dt.y, cs.x * dt.y - cs.y * dt.x, dt.z));
+    return rp_aperture_bounds(m, vec3(rp_prism_turn(cs, vec2(dt.x, dt.y)), dt.z));
 }
 
 // sin(2 pi t) / (2 pi t) (1 at 0; its series where (2 pi t)^2 < 1e-4, within rounding of the
@@ -3428,7 +3433,7 @@ float rp_diffraction_pattern(in rp_material m, in rp_incident s, vec2 nu) {
         vec2 cs = vec2(float(1.0), float(0.0));
         vec3 mk = rp_diffraction_bounds_at(m, s.dt, orient, i, cs);
         if (!(mk.x > float(0.0))) continue;
-        vec2 qhat = vec2(cs.x * dir.x + cs.y * dir.y, cs.x * dir.y - cs.y * dir.x);
+        vec2 qhat = rp_prism_turn(cs, dir);
         float f = rp_aperture_transform(m, mk, len * qhat, qhat);
         sumF2 += f * f;
         sumA += rp_aperture_area(mk);
@@ -3480,7 +3485,7 @@ void rp_diffraction_setup(in rp_material m, inout rp_incident s, float sinThetaI
         vec2 cs = vec2(float(1.0), float(0.0));
         vec3 mk = rp_diffraction_bounds_at(m, s.dt, orient, i, cs);
         if (!(mk.x > float(0.0))) continue;
-        vec3 d = vec3(cs.x * s.dt.x + cs.y * s.dt.y, cs.x * s.dt.y - cs.y * s.dt.x, s.dt.z);
+        vec3 d = vec3(rp_prism_turn(cs, vec2(s.dt.x, s.dt.y)), s.dt.z);
         vec4 measures = rp_aperture_measures_at(m, mk);
         sum += measures;
         moments += measures.x * rp_aperture_moments(m, d, mk);
@@ -3940,13 +3945,12 @@ vec3 rp_diffraction_density(in rp_material m, in rp_incident s, vec3 wo, vec3 wi
 // RP_DIFF_EXACT_SCALE.x falling linearly to 0 at .y. P - W integrates to 0, so the retro energy is
 // unchanged; where the geometric lobe is narrow against the rings (k near 1) the lobe is the
 // pattern itself, dark rings included, and where it is wide (k below RP_DIFF_EXACT_MIN_DAMP) the
-// smooth form alone. Ideal and metallised faces: uncoated faces' orders do not interfere as one
-// aperture (docs/diffraction.md); the fast tier keeps the smooth form.
+// smooth form alone. For ideal and metallised faces in the exact tier (rp_diffraction_value
+// calls it for them): uncoated faces' orders do not interfere as one aperture
+// (docs/diffraction.md); the fast tier keeps the smooth form.
 float rp_diffraction_residual(in rp_material m, in rp_incident s, float scale, float sx,
                                    float sy) {
-    if (m.fidelity != RP_FIDELITY_EXACT || m.prism_reflection == RP_PRISM_TIR ||
-        !(s.diffCore2 > float(0.0)))
-        return float(0.0);
+    if (!(s.diffCore2 > float(0.0))) return float(0.0);
     float inv2 = float(1.0) / (scale * scale);
     float paraxial =
         clamp((RP_DIFF_EXACT_SCALE.y - scale) / (RP_DIFF_EXACT_SCALE.y - RP_DIFF_EXACT_SCALE.x),
