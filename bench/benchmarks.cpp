@@ -456,6 +456,12 @@ const std::vector<Row>& rows() {
                                       "ideal prisms, pitch 160 um at 905 nm, roughness 5e-4: the "
                                       "pattern itself",
                                       pattern, pattern, 7));
+        Params tirPattern = pattern;
+        tirPattern.prism_reflection = f64::RP_PRISM_TIR;
+        out.push_back(node_row<Float>("exact_tir_diffraction_pattern", "exact", all3,
+                                      "uncoated prisms, pitch 160 um at 905 nm, roughness 5e-4: "
+                                      "the face orders' pattern",
+                                      tirPattern, tirPattern, 7));
         baselines::LambertT<float> lambert;
         baselines::BeckmannCookTorranceT<float> ct;
         ct.roughness = 0.05f;
@@ -531,6 +537,10 @@ const std::vector<PairedRow>& shading_rows() {
         diffraction.roughness = 5e-4;
         add("exact_pattern_905", "ideal prisms, pitch 160 um at 905 nm, roughness 5e-4",
             diffraction);
+        tirDiffraction.wavelength = 905.0;
+        tirDiffraction.roughness = 5e-4;
+        add("exact_tir_pattern_905", "uncoated prisms, pitch 160 um at 905 nm, roughness 5e-4",
+            tirDiffraction);
         return out;
     }();
     return all;

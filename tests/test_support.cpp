@@ -117,9 +117,10 @@ std::vector<Corner> parameter_corners() {
             }
     // Diffraction at the prism aperture (prism_pitch), per colour channel or at one wavelength,
     // from a pitch far below the wavelength (the pattern wider than the hemisphere) to 2 mm, with
-    // every ERA mode, a dispersion, dihedral errors and a cant, and the fast tier; the last two
-    // ideal and metallised prisms whose geometric lobe is narrow against the pattern's rings, so
-    // that the exact tier evaluates the pattern itself (fully, and damped by a ring of spots).
+    // every ERA mode, a dispersion, dihedral errors and a cant, and the fast tier; the first
+    // uncoated prisms and the last two ideal and metallised ones whose geometric lobe is narrow
+    // against the pattern's rings, so that the exact tier evaluates the pattern itself (the face
+    // orders', the aperture's fully, and the aperture's damped by a ring of spots).
     struct Diffracting {
         double roughness, ior, pitch, wavelength, abbe, dihedral, cant;
         int era, prism, fidelity;

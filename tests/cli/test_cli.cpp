@@ -288,7 +288,7 @@ TEST_CASE("bench --json prints the trade table's rows", "[cli]") {
     }
     CHECK(out["construction"][0]["name"] == "exact_tir");
     // A shading point from wi and from the incident state, for each of its materials.
-    REQUIRE(out["shading_point"].size() == 6);
+    REQUIRE(out["shading_point"].size() == 7);
     for (const json& c : out["shading_point"]) {
         CHECK(c["ns_from_wi"].get<double>() > 0);
         CHECK(c["ns_from_state"].get<double>() > 0);

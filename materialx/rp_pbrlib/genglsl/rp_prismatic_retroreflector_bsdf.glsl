@@ -1885,6 +1885,10 @@ const float RP_DIFF_MIN_CORE_PEAK = float(0.05);
 // its rings below this factor: its correction is then a thousandth of the difference between the
 // pattern and its smooth form, which the form's convolution with the lobe already holds.
 const float RP_DIFF_EXACT_MIN_DAMP = float(1e-3);
+// Uncoated faces' pattern (rp_diffraction_pattern_tir: six face orders, three reflections each,
+// per orientation) costs about six times the interfering aperture's: it is left out below a
+// tenfold larger factor, where its correction is a hundredth of that difference.
+const float RP_DIFF_EXACT_MIN_DAMP_TIR = float(1e-2);
 // lambda / pitch up to which the exact tier takes the pattern itself, and from which it no longer
 // does (between, a linear blend): the pattern keeps about 5% of its light beyond nu = 10, which at
 // lambda / pitch 0.06 lies 0.6 off the retro direction, where the paraxial pattern stands for
@@ -3363,6 +3367,11 @@ vec2 rp_prism_turn(vec2 cs, vec2 v) {
     return vec2(cs.x * v.x + cs.y * v.y, cs.x * v.y - cs.y * v.x);
 }
 
+// A vector's components in that frame (the normal's unchanged).
+vec3 rp_prism_turn(vec2 cs, vec3 v) {
+    return vec3(rp_prism_turn(cs, vec2(v.x, v.y)), v.z);
+}
+
 // The bounds (rp_aperture_bounds) of orientation i of `orient` (rp_diffraction_orientations) for
 // the inner direction dt in the sheet's frame, and cs = (cos psi, sin psi) of its angle psi, by
 // which vectors turn into that prism's frame (rp_prism_turn).
@@ -3380,27 +3389,32 @@ float rp_sinc_turns(float t) {
     float x = float(2.0) * RP_PI * t;
     float x2 = x * x;
     if (x2 < float(1e-4)) return float(1.0) - x2 * (float(1.0 / 6.0) - x2 * float(1.0 / 120.0));
-    return sin(float(2.0) * RP_PI * (t - floor(t + float(0.5)))) / x;
+    return sin(float(2.0) * RP_PI * (t - float(floor(t + float(0.5))))) / x;
+}
+
+// T's edge k on the line l_k = 0 (rp_aperture_edge_moments with base 0) for the vertices vi, vj
+// and bounds mi, mj (i, j the next two indices after k) and the centre od: its ends (xy, zw)
+// relative to od, counter-clockwise about it (T''s edge k, its image through O_d, is minus
+// them), or 0 where the edge is empty. Every component is passed by name.
+vec4 rp_aperture_edge_ends(vec2 vi, vec2 vj, float mi, float mj, vec2 od) {
+    float lo = max(float(0.0), float(1.0) - mj);
+    float hi = min(mi, float(1.0));
+    if (!(hi > lo)) return vec4(float(0.0));
+    vec2 a = lo * vi + (float(1.0) - lo) * vj - od;
+    vec2 b = hi * vi + (float(1.0) - hi) * vj - od;
+    if (a.x * b.y - a.y * b.x < float(0.0)) return vec4(b, a);
+    return vec4(a, b);
 }
 
 // The Fraunhofer transform's terms of T's edge k and of T''s edge k, its image through O_d, at
 // the spatial frequency q = 2 pi nu (radians per pitch; nu given, qhat its direction) for the
-// edge of vertices vi, vj and bounds mi, mj (rp_aperture_edge_moments with base 0) and the centre
-// od: with c the edge's midpoint relative to od, D its vector and N its outward normal times its
-// length, the pair gives 2 (qhat.N)(qhat.c) sinc(q.c) sinc(q.D / 2), float (docs/diffraction.md).
-// Every component is passed by name.
-float rp_aperture_pair_transform(vec2 nu, vec2 qhat, vec2 vi, vec2 vj, float mi, float mj,
-                                      vec2 od) {
-    float lo = max(float(0.0), float(1.0) - mj);
-    float hi = min(mi, float(1.0));
-    if (!(hi > lo)) return float(0.0);
-    vec2 a = lo * vi + (float(1.0) - lo) * vj - od;
-    vec2 b = hi * vi + (float(1.0) - hi) * vj - od;
-    vec2 c = float(0.5) * (a + b);
-    vec2 dv = b - a;
-    vec2 n = vec2(dv.y, -dv.x);
-    if (dot(n, c) < float(0.0)) n = -n;
-    return float(2.0) * dot(qhat, n) * dot(qhat, c) * rp_sinc_turns(dot(nu, c)) *
+// edge's ends e (rp_aperture_edge_ends): with c the edge's midpoint relative to O_d, D its vector
+// and N its outward normal times its length, the pair gives
+// 2 (qhat.N)(qhat.c) sinc(q.c) sinc(q.D / 2), float (docs/diffraction.md).
+float rp_aperture_pair_transform(vec2 nu, vec2 qhat, vec4 e) {
+    vec2 c = float(0.5) * (vec2(e.x, e.y) + vec2(e.z, e.w));
+    vec2 dv = vec2(e.z, e.w) - vec2(e.x, e.y);
+    return float(2.0) * dot(qhat, vec2(dv.y, -dv.x)) * dot(qhat, c) * rp_sinc_turns(dot(nu, c)) *
            rp_sinc_turns(float(0.5) * dot(nu, dv));
 }
 
@@ -3412,9 +3426,12 @@ float rp_aperture_pair_transform(vec2 nu, vec2 qhat, vec2 vi, vec2 vj, float mi,
 // (qhat.x) qhat), every term bounded as nu goes to 0.
 float rp_aperture_transform(in rp_material m, vec3 mk, vec2 nu, vec2 qhat) {
     vec2 od = float(0.5) * (mk.x * m.ap_v1 + mk.y * m.ap_v2 + mk.z * m.ap_v3);
-    return rp_aperture_pair_transform(nu, qhat, m.ap_v2, m.ap_v3, mk.y, mk.z, od) +
-           rp_aperture_pair_transform(nu, qhat, m.ap_v3, m.ap_v1, mk.z, mk.x, od) +
-           rp_aperture_pair_transform(nu, qhat, m.ap_v1, m.ap_v2, mk.x, mk.y, od);
+    return rp_aperture_pair_transform(nu, qhat,
+                                      rp_aperture_edge_ends(m.ap_v2, m.ap_v3, mk.y, mk.z, od)) +
+           rp_aperture_pair_transform(nu, qhat,
+                                      rp_aperture_edge_ends(m.ap_v3, m.ap_v1, mk.z, mk.x, od)) +
+           rp_aperture_pair_transform(nu, qhat,
+                                      rp_aperture_edge_ends(m.ap_v1, m.ap_v2, mk.x, mk.y, od));
 }
 
 // The interfering aperture's Fraunhofer pattern itself at nu (sheet-plane components of
@@ -3439,6 +3456,305 @@ float rp_diffraction_pattern(in rp_material m, in rp_incident s, vec2 nu) {
         sumA += rp_aperture_area(mk);
     }
     return sumA > float(0.0) ? sumF2 / sumA : float(0.0);
+}
+
+// ---- Uncoated faces' pattern: the face orders with their polarisation (docs/diffraction.md) ----
+
+vec2 rp_cmul(vec2 a, vec2 b) {
+    return vec2(a.x * b.x - a.y * b.y, a.x * b.y + a.y * b.x);
+}
+
+vec2 rp_cdiv(vec2 a, vec2 b) {
+    return vec2(a.x * b.x + a.y * b.y, a.y * b.x - a.x * b.y) / dot(b, b);
+}
+
+// The s axis of a wave along k meeting a surface of normal n: k x n normalised, any axis across
+// k where they are parallel (normal incidence, where s and p reflect alike).
+vec3 rp_s_axis(vec3 k, vec3 n) {
+    vec3 c = cross(k, n);
+    float len = length(c);
+    if (len > float(1e-6)) return c / len;
+    vec3 a = abs(k.y) < float(0.9) ? vec3(float(0.0), float(1.0), float(0.0))
+                                  : vec3(float(1.0), float(0.0), float(0.0));
+    return normalize(a - dot(a, k) * k);
+}
+
+// One face's reflection inside the prism (index eta, air behind it; Born & Wolf 1.5.2, cos theta_t
+// imaginary with a positive part under total internal reflection, whose phases it gives) of the
+// complex fields (ar + i ai) and (br + i bi) of a wave along k, which turns to the reflected
+// direction; n the face's normal toward the light. The s component takes r_s, the p component
+// r_p onto the reflected wave's p axis s x k'.
+void rp_reflect_fields(inout vec3 ar, inout vec3 ai, inout vec3 br,
+                             inout vec3 bi, inout vec3 k, vec3 n, float eta) {
+    float ci = clamp(-dot(k, n), float(0.0), float(1.0));
+    vec3 sv = rp_s_axis(k, n);
+    vec3 pv = cross(sv, k);
+    vec3 kr = k + float(2.0) * ci * n;
+    vec3 pr = cross(sv, kr);
+    float rad = float(1.0) - eta * eta * (float(1.0) - ci * ci);
+    vec2 ct = rad >= float(0.0) ? vec2(sqrt(rad), float(0.0)) : vec2(float(0.0), sqrt(-rad));
+    vec2 rs = rp_cdiv(vec2(eta * ci, float(0.0)) - ct, vec2(eta * ci, float(0.0)) + ct);
+    vec2 rp = rp_cdiv(vec2(ci, float(0.0)) - eta * ct, vec2(ci, float(0.0)) + eta * ct);
+    vec2 as = rp_cmul(rs, vec2(dot(ar, sv), dot(ai, sv)));
+    vec2 ap = rp_cmul(rp, vec2(dot(ar, pv), dot(ai, pv)));
+    vec2 bs = rp_cmul(rs, vec2(dot(br, sv), dot(bi, sv)));
+    vec2 bp = rp_cmul(rp, vec2(dot(br, pv), dot(bi, pv)));
+    ar = as.x * sv + ap.x * pr;
+    ai = as.y * sv + ap.y * pr;
+    br = bs.x * sv + bp.x * pr;
+    bi = bs.y * sv + bp.y * pr;
+    k = kr;
+}
+
+// The refraction of a float field e along k through a surface of normal n (toward the light) from
+// index n1 to n2 where no total reflection occurs: t_s and t_p (Born & Wolf 1.5.2) onto the
+// refracted wave's s and p axes. k turns to the refracted direction.
+vec3 rp_transmit_field(vec3 e, vec3 k, vec3 n, float n1, float n2) {
+    float ci = clamp(-dot(k, n), float(0.0), float(1.0));
+    vec3 sv = rp_s_axis(k, n);
+    vec3 pv = cross(sv, k);
+    float r = n1 / n2;
+    float ct = sqrt(max(float(1.0) - r * r * (float(1.0) - ci * ci), float(0.0)));
+    vec3 kt = normalize(r * (k + ci * n) - ct * n);
+    float ts = float(2.0) * n1 * ci / (n1 * ci + n2 * ct);
+    float tp = float(2.0) * n1 * ci / (n2 * ci + n1 * ct);
+    return ts * dot(e, sv) * sv + tp * dot(e, pv) * cross(sv, kt);
+}
+
+// The field of the face order (f1, f2, f3) (face normals toward the light, prism frame) for the
+// fields es and ep inside the prism along d (the incident s and p waves after the top surface),
+// after the three faces, inside and along -d (a perfect cube's orders all leave alike, so the
+// exit through the top surface, linear, is applied to their sum: rp_exit_weight): the s input's
+// field (sRe + i sIm) and the p input's (pRe + i pIm).
+void rp_order_fields(vec3 es, vec3 ep, vec3 d, vec3 f1, vec3 f2, vec3 f3, float eta,
+                           out vec3 sRe, out vec3 sIm, out vec3 pRe, out vec3 pIm) {
+    sRe = es;
+    sIm = vec3(float(0.0));
+    pRe = ep;
+    pIm = vec3(float(0.0));
+    vec3 k = d;
+    rp_reflect_fields(sRe, sIm, pRe, pIm, k, f1, eta);
+    rp_reflect_fields(sRe, sIm, pRe, pIm, k, f2, eta);
+    rp_reflect_fields(sRe, sIm, pRe, pIm, k, f3, eta);
+}
+
+// The squared magnitude outside of a field (re + i im) inside along -d after its exit through
+// the top surface: t.x^2 |E.sv|^2 + t.y^2 |E.pv|^2 with sv, pv the exit's s and p axes and t its
+// t_s, t_p (rp_transmit_field's; the field lies across -d and the refracted axes are orthonormal).
+float rp_exit_weight(vec3 re, vec3 im, vec3 sv, vec3 pv, vec2 t) {
+    float s2 = dot(re, sv) * dot(re, sv) + dot(im, sv) * dot(im, sv);
+    float p2 = dot(re, pv) * dot(re, pv) + dot(im, pv) * dot(im, pv);
+    return t.x * t.x * s2 + t.y * t.y * p2;
+}
+
+// A pick of three by index i: a for 0, b for 1, c otherwise.
+vec3 rp_pick3(vec3 a, vec3 b, vec3 c, int i) {
+    return i == 0 ? a : (i == 1 ? b : c);
+}
+
+vec2 rp_pick3(vec2 a, vec2 b, vec2 c, int i) {
+    return i == 0 ? a : (i == 1 ? b : c);
+}
+
+// (1 - sinc x) / x^2 for x = 2 pi t, its series where x^2 < 0.1 (its x^6 term below 3e-9).
+float rp_one_minus_sinc_turns(float t) {
+    float x = float(2.0) * RP_PI * t;
+    float x2 = x * x;
+    if (x2 < float(0.1)) return float(1.0 / 6.0) - x2 * (float(1.0 / 120.0) - x2 * float(1.0 / 5040.0));
+    return (float(1.0) - rp_sinc_turns(t)) / x2;
+}
+
+// One edge's term of the Fraunhofer transform F = integral of exp(-2 pi i nu.x) (x relative to
+// O_d) of a closed polygon counter-clockwise about O_d, edge from p to q, at nu (qhat its
+// direction, qlen = 2 pi |nu|): with c the midpoint, D = q - p and N = (D.y, -D.x),
+// float part (qhat.N)(qhat.c) sinc(q.c) sinc(q.D / 2), imaginary part
+// -|q| (qhat.N) ((qhat.D)^2 / 4 h(q.D / 2) + (qhat.c)^2 / 2 sinc^2(q.c / 2) sinc(q.D / 2)) with
+// h(x) = (1 - sinc x) / x^2: the divergence theorem's sum with cos(q.c) = 1 - 2 sin^2(q.c / 2)
+// and sinc = 1 - x^2 h, whose constant parts cancel over the closed polygon (sum N = 0), so that
+// every term stays bounded as nu goes to 0 (the float parts sum to the area there).
+vec2 rp_edge_transform(vec2 nu, vec2 qhat, float qlen, vec2 p, vec2 q) {
+    vec2 c = float(0.5) * (p + q);
+    vec2 dv = q - p;
+    float qn = dot(qhat, vec2(dv.y, -dv.x));
+    float qc = dot(qhat, c);
+    float qd = dot(qhat, dv);
+    float tD = float(0.5) * dot(nu, dv);
+    float sincD = rp_sinc_turns(tD);
+    float sincHalf = rp_sinc_turns(float(0.5) * dot(nu, c));
+    float re = qn * qc * rp_sinc_turns(dot(nu, c)) * sincD;
+    float im = -qlen * qn *
+              (float(0.25) * qd * qd * rp_one_minus_sinc_turns(tD) +
+               float(0.5) * qc * qc * sincHalf * sincHalf * sincD);
+    return vec2(re, im);
+}
+
+// The part of the edge e (ends relative to O_d, counter-clockwise) inside the wedge from the ray
+// ra counter-clockwise to rb (rays from O_d): its transform term (rp_edge_transform, xy) and
+// its triangle's area with O_d (z), 0 where none of it is inside.
+vec3 rp_wedge_edge(vec2 nu, vec2 qhat, float qlen, vec2 ra, vec2 rb, vec2 p, vec2 q) {
+    float lo = float(0.0);
+    float hi = float(1.0);
+    float fa0 = ra.x * p.y - ra.y * p.x;
+    float fa1 = ra.x * q.y - ra.y * q.x;
+    float fb0 = p.x * rb.y - p.y * rb.x;
+    float fb1 = q.x * rb.y - q.y * rb.x;
+    if (fa0 < float(0.0) && fa1 < float(0.0)) return vec3(float(0.0));
+    if (fb0 < float(0.0) && fb1 < float(0.0)) return vec3(float(0.0));
+    if (fa0 < float(0.0)) lo = max(lo, fa0 / (fa0 - fa1));
+    if (fa1 < float(0.0)) hi = min(hi, fa0 / (fa0 - fa1));
+    if (fb0 < float(0.0)) lo = max(lo, fb0 / (fb0 - fb1));
+    if (fb1 < float(0.0)) hi = min(hi, fb0 / (fb0 - fb1));
+    if (!(hi > lo)) return vec3(float(0.0));
+    vec2 a = p + lo * (q - p);
+    vec2 b = p + hi * (q - p);
+    return vec3(rp_edge_transform(nu, qhat, qlen, a, b), float(0.5) * (a.x * b.y - a.y * b.x));
+}
+
+// The transform (xy, about O_d) and area (z) of the part of T and T' (its edges' ends e1, e2, e3
+// from rp_aperture_edge_ends, their images minus them) in the wedge between the rays from O_d
+// to the points ra and rb on its boundary (either order): one face order's region.
+vec3 rp_sector_transform(vec2 nu, vec2 qhat, float qlen, vec2 ra, vec2 rb, vec4 e1, vec4 e2,
+                               vec4 e3) {
+    float turn = ra.x * rb.y - ra.y * rb.x;
+    if (turn < float(0.0)) {
+        vec2 t = ra;
+        ra = rb;
+        rb = t;
+        turn = -turn;
+    }
+    if (!(turn > float(0.0))) return vec3(float(0.0));
+    vec3 f = vec3(rp_edge_transform(nu, qhat, qlen, vec2(float(0.0)), ra) +
+                      rp_edge_transform(nu, qhat, qlen, rb, vec2(float(0.0))),
+                  float(0.0));
+    f += rp_wedge_edge(nu, qhat, qlen, ra, rb, vec2(e1.x, e1.y), vec2(e1.z, e1.w));
+    f += rp_wedge_edge(nu, qhat, qlen, ra, rb, -vec2(e1.x, e1.y), -vec2(e1.z, e1.w));
+    f += rp_wedge_edge(nu, qhat, qlen, ra, rb, vec2(e2.x, e2.y), vec2(e2.z, e2.w));
+    f += rp_wedge_edge(nu, qhat, qlen, ra, rb, -vec2(e2.x, e2.y), -vec2(e2.z, e2.w));
+    f += rp_wedge_edge(nu, qhat, qlen, ra, rb, vec2(e3.x, e3.y), vec2(e3.z, e3.w));
+    f += rp_wedge_edge(nu, qhat, qlen, ra, rb, -vec2(e3.x, e3.y), -vec2(e3.z, e3.w));
+    return f;
+}
+
+// |sum of field (er + i ei) times the complex transform f|: the accumulation of one region's
+// field into u (re, im).
+void rp_add_field(inout vec3 ur, inout vec3 ui, vec3 er, vec3 ei, vec2 f) {
+    ur += f.x * er - f.y * ei;
+    ui += f.y * er + f.x * ei;
+}
+
+// One pair of face orders of one prism at nu: the regions X (transform f, area f.z) and its
+// image -X through O_d (transform conj f), whose fields are those of the orders (a: on X, b: on
+// -X, each as rp_order_fields' s and p inputs' fields), added to the s and p inputs' amplitudes
+// (usr + i usi, upr + i upi); returns the pair's share of the energy normalisation, the exit's
+// (|a|^2 + |b|^2) area / 2 summed over the two inputs (rp_exit_weight with the exit axes sv, pv
+// and coefficients t).
+float rp_add_order_pair(vec3 f, vec3 asr, vec3 asi, vec3 apr, vec3 api, vec3 bsr, vec3 bsi,
+                             vec3 bpr, vec3 bpi, vec3 sv, vec3 pv, vec2 t, inout vec3 usr,
+                             inout vec3 usi, inout vec3 upr, inout vec3 upi) {
+    vec2 conj = vec2(f.x, -f.y);
+    rp_add_field(usr, usi, asr, asi, vec2(f.x, f.y));
+    rp_add_field(upr, upi, apr, api, vec2(f.x, f.y));
+    rp_add_field(usr, usi, bsr, bsi, conj);
+    rp_add_field(upr, upi, bpr, bpi, conj);
+    float wa = rp_exit_weight(asr, asi, sv, pv, t) + rp_exit_weight(apr, api, sv, pv, t);
+    float wb = rp_exit_weight(bsr, bsi, sv, pv, t) + rp_exit_weight(bpr, bpi, sv, pv, t);
+    return float(0.5) * (wa + wb) * f.z;
+}
+
+// One prism's (orientation cs = (cos psi, sin psi)) intensity at nu = len dir, the mean over the
+// incident s and p waves of |sum_X E_X F_X|^2 over its six face-order regions X
+// (rp_add_order_pair), and (y) its energy normalisation; es, ep the incident waves' fields inside,
+// dt the inner direction, xs, xp the exit's s and p axes (for the direction -dt), all in the
+// sheet's frame, xt the exit's t_s, t_p, mk the prism's bounds. The region of T and T' between
+// the rays from O_d to T's vertex j and to T''s vertex i lies in face i's entry region (that
+// between the rays to the other two vertices), next to the projected edge toward vertex j; light
+// entering there meets i, then the third face c, then j, and leaves through its image, which lies
+// in face j's region: on region (i, j) the exit field is that of the order (j, c, i), on its
+// image that of (i, c, j).
+vec2 rp_tir_prism_pattern(in rp_material m, vec3 es, vec3 ep, vec3 dt, vec3 xs, vec3 xp,
+                                vec2 xt, vec2 cs, vec3 mk, vec2 dir, float len) {
+    vec3 d = rp_prism_turn(cs, dt);
+    vec3 s0 = rp_prism_turn(cs, es);
+    vec3 p0 = rp_prism_turn(cs, ep);
+    vec3 sv = rp_prism_turn(cs, xs);
+    vec3 pv = rp_prism_turn(cs, xp);
+    vec2 qhat = rp_prism_turn(cs, dir);
+    vec2 nuP = len * qhat;
+    float qlen = float(2.0) * RP_PI * len;
+    vec2 od = float(0.5) * (mk.x * m.ap_v1 + mk.y * m.ap_v2 + mk.z * m.ap_v3);
+    vec4 e1 = rp_aperture_edge_ends(m.ap_v2, m.ap_v3, mk.y, mk.z, od);
+    vec4 e2 = rp_aperture_edge_ends(m.ap_v3, m.ap_v1, mk.z, mk.x, od);
+    vec4 e3 = rp_aperture_edge_ends(m.ap_v1, m.ap_v2, mk.x, mk.y, od);
+    // The rays' ends on the boundary: toward T's vertex k at t_k = min(1, m_k / (2 - m_k))
+    // (rp_aperture_measures_at), toward T''s vertex k at minus that.
+    vec3 t = min(vec3(float(1.0)), mk / (vec3(float(2.0)) - mk));
+    vec2 r1 = t.x * (m.ap_v1 - od);
+    vec2 r2 = t.y * (m.ap_v2 - od);
+    vec2 r3 = t.z * (m.ap_v3 - od);
+    vec3 usr = vec3(float(0.0));
+    vec3 usi = vec3(float(0.0));
+    vec3 upr = vec3(float(0.0));
+    vec3 upi = vec3(float(0.0));
+    float norm = float(0.0);
+    // One loop over the three regions (i, i + 1): a shader compiles the orders once.
+    for (int i = 0; i < 3; ++i) {
+        int j = i == 2 ? 0 : i + 1;
+        int c = 3 - i - j;
+        vec3 fi = rp_pick3(m.ap_e1, m.ap_e2, m.ap_e3, i);
+        vec3 fj = rp_pick3(m.ap_e1, m.ap_e2, m.ap_e3, j);
+        vec3 fc = rp_pick3(m.ap_e1, m.ap_e2, m.ap_e3, c);
+        vec3 asr;
+        vec3 asi;
+        vec3 apr;
+        vec3 api;
+        vec3 bsr;
+        vec3 bsi;
+        vec3 bpr;
+        vec3 bpi;
+        rp_order_fields(s0, p0, d, fj, fc, fi, m.eta, asr, asi, apr, api);
+        rp_order_fields(s0, p0, d, fi, fc, fj, m.eta, bsr, bsi, bpr, bpi);
+        vec3 f = rp_sector_transform(nuP, qhat, qlen, rp_pick3(r1, r2, r3, j),
+                                     -rp_pick3(r1, r2, r3, i), e1, e2, e3);
+        norm += rp_add_order_pair(f, asr, asi, apr, api, bsr, bsi, bpr, bpi, sv, pv, xt, usr, usi,
+                                  upr, upi);
+    }
+    float intensity =
+        float(0.5) * (rp_exit_weight(usr, usi, sv, pv, xt) + rp_exit_weight(upr, upi, sv, pv, xt));
+    return vec2(intensity, norm);
+}
+
+// Uncoated faces' pattern itself at nu for the incident state s (rp_diffraction_pattern's
+// conventions): sum over the ERA mode's orientations of the polarisation-averaged intensity of
+// the six face orders' exit fields over their regions (rp_tir_prism_pattern), over the sum of
+// their energies; a density of nu that integrates to 1 (the regions are disjoint).
+float rp_diffraction_pattern_tir(in rp_material m, in rp_incident s, vec2 nu) {
+    float len = length(nu);
+    vec2 dir = len > float(0.0) ? nu / len : vec2(float(1.0), float(0.0));
+    // The incident s and p waves' fields inside (sheet frame): wi from the refracted direction
+    // (s.dt = (-wi.xy / eta, -cos theta_t)) through the top surface.
+    vec3 wi = vec3(-m.eta * s.dt.x, -m.eta * s.dt.y, s.cosThetaI);
+    vec3 top = vec3(float(0.0), float(0.0), float(1.0));
+    vec3 sIn = rp_s_axis(-wi, top);
+    vec3 es = rp_transmit_field(sIn, -wi, top, float(1.0), m.eta);
+    vec3 ep = rp_transmit_field(cross(sIn, -wi), -wi, top, float(1.0), m.eta);
+    // The exit along -dt through the top surface from inside (normal toward the light -z).
+    vec3 k = -s.dt;
+    vec3 xs = rp_s_axis(k, -top);
+    vec3 xp = cross(xs, k);
+    float ci = k.z;
+    float ct = sqrt(max(float(1.0) - m.eta * m.eta * (float(1.0) - ci * ci), float(0.0)));
+    vec2 xt = float(2.0) * m.eta * ci / vec2(m.eta * ci + ct, ci + m.eta * ct);
+    vec3 orient = rp_diffraction_orientations(m);
+    int count = int(orient.x);
+    vec2 sum = vec2(float(0.0));
+    for (int i = 0; i < RP_DIFF_ORIENTATIONS; ++i) {
+        if (i >= count) break;
+        vec2 cs = vec2(float(1.0), float(0.0));
+        vec3 mk = rp_diffraction_bounds_at(m, s.dt, orient, i, cs);
+        if (!(mk.x > float(0.0))) continue;
+        sum += rp_tir_prism_pattern(m, es, ep, s.dt, xs, xp, xt, cs, mk, dir, len);
+    }
+    return sum.y > float(0.0) ? sum.x / sum.y : float(0.0);
 }
 
 // The tail's peak factor C of the material's tier (RP_DIFF_TAIL_PEAK_*): its density on the axis
@@ -3945,9 +4261,11 @@ vec3 rp_diffraction_density(in rp_material m, in rp_incident s, vec3 wo, vec3 wi
 // RP_DIFF_EXACT_SCALE.x falling linearly to 0 at .y. P - W integrates to 0, so the retro energy is
 // unchanged; where the geometric lobe is narrow against the rings (k near 1) the lobe is the
 // pattern itself, dark rings included, and where it is wide (k below RP_DIFF_EXACT_MIN_DAMP) the
-// smooth form alone. For ideal and metallised faces in the exact tier (rp_diffraction_value
-// calls it for them): uncoated faces' orders do not interfere as one aperture
-// (docs/diffraction.md); the fast tier keeps the smooth form.
+// smooth form alone. Uncoated faces' orders do not interfere as one aperture: there both shares
+// give way to their pattern, k (P_tir - c W - (1 - c) O) with P_tir rp_diffraction_pattern_tir
+// and O the orders' share's form, left out below RP_DIFF_EXACT_MIN_DAMP_TIR
+// (docs/diffraction.md). The exact tier's (rp_diffraction_value calls it there); the fast tier
+// keeps the smooth form.
 float rp_diffraction_residual(in rp_material m, in rp_incident s, float scale, float sx,
                                    float sy) {
     if (!(s.diffCore2 > float(0.0))) return float(0.0);
@@ -3956,7 +4274,8 @@ float rp_diffraction_residual(in rp_material m, in rp_incident s, float scale, f
         clamp((RP_DIFF_EXACT_SCALE.y - scale) / (RP_DIFF_EXACT_SCALE.y - RP_DIFF_EXACT_SCALE.x),
               float(0.0), float(1.0));
     float k = paraxial * exp(-min(float(2.0) * RP_PI * RP_PI * s.diffBlur * inv2, RP_MAX_EXP));
-    if (!(k >= RP_DIFF_EXACT_MIN_DAMP)) return float(0.0);
+    bool tir = m.prism_reflection == RP_PRISM_TIR;
+    if (!(k >= (tir ? RP_DIFF_EXACT_MIN_DAMP_TIR : RP_DIFF_EXACT_MIN_DAMP))) return float(0.0);
     rp_incident sharp = s;
     sharp.geoPar2 = float(0.0);
     sharp.geoPerp2 = float(0.0);
@@ -3966,6 +4285,13 @@ float rp_diffraction_residual(in rp_material m, in rp_incident s, float scale, f
                                      s.diffCoreWeight, false, s.diffAniso);
     float cosI = float(1.0) / s.invCosI;
     vec2 nu = (sx * cosI * vec2(s.ePerp.y, -s.ePerp.x) + sy * vec2(s.ePerp.x, s.ePerp.y)) / scale;
+    if (tir) {
+        // Uncoated faces: both shares give way to the orders' pattern.
+        float orders = rp_diffraction_share(m, sharp, scale, sx, sy, s.diffOrderCore2,
+                                           s.diffOrderTail, RP_DIFF_ORDERS.x, true, float(1.0));
+        form = s.diffCoherent * form + (float(1.0) - s.diffCoherent) * orders;
+        return k * (rp_diffraction_pattern_tir(m, s, nu) * cosI * inv2 - form);
+    }
     float pattern = rp_diffraction_pattern(m, s, nu) * cosI * inv2;
     return k * s.diffCoherent * (pattern - form);
 }
@@ -3975,7 +4301,7 @@ float rp_diffraction_residual(in rp_material m, in rp_incident s, float scale, f
 // toward the pattern itself (rp_diffraction_residual), floored at 0.
 vec3 rp_diffraction_value(in rp_material m, in rp_incident s, vec3 wo, vec3 wi,
                                 vec3 density) {
-    if (m.fidelity != RP_FIDELITY_EXACT || m.prism_reflection == RP_PRISM_TIR) return density;
+    if (m.fidelity != RP_FIDELITY_EXACT) return density;
     vec3 sl = rp_diffraction_slopes(s, wo, wi);
     if (!(sl.z > float(0.0))) return density;
     // One call site in a loop over the channels: a shader compiles the pattern once.
