@@ -41,6 +41,24 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
 
+// The inner directions the aperture tests walk: theta_t 0, 12, 25 and 40 deg at the azimuths 0,
+// 17, 75 and 200 deg (sheet frame, downward), each with its azimuth.
+struct InnerDirection {
+    double phiDeg;
+    glm::dvec3 d;
+};
+
+std::vector<InnerDirection> inner_directions() {
+    std::vector<InnerDirection> v;
+    for (double thetaDeg : {0.0, 12.0, 25.0, 40.0})
+        for (double phiDeg : {0.0, 17.0, 75.0, 200.0}) {
+            const double th = thetaDeg * kDeg, ph = phiDeg * kDeg;
+            v.push_back({phiDeg, glm::dvec3(std::sin(th) * std::cos(ph),
+                                            std::sin(th) * std::sin(ph), -std::cos(th))});
+        }
+    return v;
+}
+
 wave::Polygon regular_polygon(int n, double circumradius) {
     wave::Polygon p;
     for (int j = 0; j < n; ++j)
@@ -1181,70 +1199,66 @@ TEST_CASE("The node's aperture transform is the polygon's, and its pattern keeps
         p.prism_pitch = 100.0;
         p.cant_angle = cant;
         const f64::rp_material m = prepare_material(sanitize(p));
-        for (double thetaDeg : {0.0, 12.0, 25.0, 40.0})
-            for (double phiDeg : {0.0, 17.0, 75.0, 200.0}) {
-                const double th = thetaDeg * kDeg, ph = phiDeg * kDeg;
-                const glm::dvec3 d(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph),
-                                   -std::cos(th));
-                const glm::dvec3 mk = f64::rp_aperture_bounds(m, d);
-                if (!(mk.x > 0)) continue;
-                const glm::dvec2 od = 0.5 * (mk.x * m.ap_v1 + mk.y * m.ap_v2 + mk.z * m.ap_v3);
-                wave::Polygon t = {m.ap_v1, m.ap_v2, m.ap_v3};
-                if (wave::polygon_area(t) < 0) std::swap(t[1], t[2]);
-                wave::Polygon hex = t;
-                for (int k = 0; k < 3; ++k) {
-                    // T''s edge k: the image of T's edge through O_d; keep T's side of it.
-                    const glm::dvec2 a = 2.0 * od - t[size_t(k)],
-                                     b = 2.0 * od - t[size_t(k + 1) % 3];
-                    const glm::dvec2 inside = 2.0 * od - t[size_t(k + 2) % 3];
-                    const auto side = [&](const glm::dvec2& x) {
-                        return (b.x - a.x) * (x.y - a.y) - (b.y - a.y) * (x.x - a.x);
-                    };
-                    const double sign = side(inside) > 0 ? 1.0 : -1.0;
-                    std::vector<double> f;
-                    for (const glm::dvec2& v : hex)
-                        f.push_back(sign * side(v));
-                    hex = wave::clip_polygon(hex, f);
-                }
-                REQUIRE(hex.size() >= 3);
-                ++polygons;
-                const double area = wave::polygon_area(hex);
-                worstA = std::max(worstA, std::abs(f64::rp_aperture_area(mk) - area) / area);
-                const wave::PolygonTransform ft(hex);
-                const glm::dvec2 x(1.0, 0.0);
-                worstF = std::max(
-                    worstF,
-                    std::abs(f64::rp_aperture_transform(m, mk, glm::dvec2(0.0), x) - area) / area);
-                for (int i = 1; i <= 60; ++i) {
-                    const double nu = 0.5 * i, ang = 0.37 * i;
-                    const glm::dvec2 dir(std::cos(ang), std::sin(ang));
-                    const cplx ref = ft(2.0 * kPi * nu * dir) *
-                                     std::exp(cplx(0.0, 2.0 * kPi * nu * glm::dot(dir, od)));
-                    const double node = f64::rp_aperture_transform(m, mk, nu * dir, dir);
-                    worstF = std::max(worstF, std::abs(node - ref.real()) / area);
-                    worstF = std::max(worstF, std::abs(ref.imag()) / area);
-                }
-                // Parseval, by the midpoint rule in nu (step 0.02) and azimuth (720 nodes), at
-                // one azimuth of d per polar angle.
-                if (phiDeg != 17.0) continue;
-                ++parsevals;
-                const double nuMax = 60.0, dnu = 0.02;
-                const int nAz = 720;
-                double sum = 0;
-                for (int i = 0; i < int(nuMax / dnu); ++i) {
-                    const double nu = (i + 0.5) * dnu;
-                    double ring = 0;
-                    for (int j = 0; j < nAz; ++j) {
-                        const double ang = 2.0 * kPi * (j + 0.5) / nAz;
-                        const glm::dvec2 dir(std::cos(ang), std::sin(ang));
-                        const double f = f64::rp_aperture_transform(m, mk, nu * dir, dir);
-                        ring += f * f;
-                    }
-                    sum += ring * (2.0 * kPi / nAz) * nu * dnu;
-                }
-                const double tail = wave::polygon_perimeter(hex) / (2.0 * kPi * kPi * nuMax);
-                worstParseval = std::max(worstParseval, std::abs((sum + tail) / area - 1.0));
+        for (const InnerDirection& in : inner_directions()) {
+            const glm::dvec3& d = in.d;
+            const glm::dvec3 mk = f64::rp_aperture_bounds(m, d);
+            if (!(mk.x > 0)) continue;
+            const glm::dvec2 od = 0.5 * (mk.x * m.ap_v1 + mk.y * m.ap_v2 + mk.z * m.ap_v3);
+            wave::Polygon t = {m.ap_v1, m.ap_v2, m.ap_v3};
+            if (wave::polygon_area(t) < 0) std::swap(t[1], t[2]);
+            wave::Polygon hex = t;
+            for (int k = 0; k < 3; ++k) {
+                // T''s edge k: the image of T's edge through O_d; keep T's side of it.
+                const glm::dvec2 a = 2.0 * od - t[size_t(k)], b = 2.0 * od - t[size_t(k + 1) % 3];
+                const glm::dvec2 inside = 2.0 * od - t[size_t(k + 2) % 3];
+                const auto side = [&](const glm::dvec2& x) {
+                    return (b.x - a.x) * (x.y - a.y) - (b.y - a.y) * (x.x - a.x);
+                };
+                const double sign = side(inside) > 0 ? 1.0 : -1.0;
+                std::vector<double> f;
+                for (const glm::dvec2& v : hex)
+                    f.push_back(sign * side(v));
+                hex = wave::clip_polygon(hex, f);
             }
+            REQUIRE(hex.size() >= 3);
+            ++polygons;
+            const double area = wave::polygon_area(hex);
+            worstA = std::max(worstA, std::abs(f64::rp_aperture_area(mk) - area) / area);
+            const wave::PolygonTransform ft(hex);
+            const glm::dvec2 x(1.0, 0.0);
+            worstF = std::max(
+                worstF,
+                std::abs(f64::rp_aperture_transform(m, mk, glm::dvec2(0.0), x) - area) / area);
+            for (int i = 1; i <= 60; ++i) {
+                const double nu = 0.5 * i, ang = 0.37 * i;
+                const glm::dvec2 dir(std::cos(ang), std::sin(ang));
+                const cplx ref = ft(2.0 * kPi * nu * dir) *
+                                 std::exp(cplx(0.0, 2.0 * kPi * nu * glm::dot(dir, od)));
+                const double node = f64::rp_aperture_transform(m, mk, nu * dir, dir);
+                worstF = std::max(worstF, std::abs(node - ref.real()) / area);
+                worstF = std::max(worstF, std::abs(ref.imag()) / area);
+            }
+            // Parseval, by the midpoint rule in nu (step 0.02) and azimuth (720 nodes), at
+            // one azimuth of d per polar angle.
+            if (in.phiDeg != 17.0) continue;
+            ++parsevals;
+            const double nuMax = 60.0, dnu = 0.02;
+            const int nAz = 720;
+            double sum = 0;
+            for (int i = 0; i < int(nuMax / dnu); ++i) {
+                const double nu = (i + 0.5) * dnu;
+                double ring = 0;
+                for (int j = 0; j < nAz; ++j) {
+                    const double ang = 2.0 * kPi * (j + 0.5) / nAz;
+                    const glm::dvec2 dir(std::cos(ang), std::sin(ang));
+                    const double f = f64::rp_aperture_transform(m, mk, nu * dir, dir);
+                    ring += f * f;
+                }
+                sum += ring * (2.0 * kPi / nAz) * nu * dnu;
+            }
+            const double tail = wave::polygon_perimeter(hex) / (2.0 * kPi * kPi * nuMax);
+            worstParseval = std::max(worstParseval, std::abs((sum + tail) / area - 1.0));
+        }
     }
     std::printf(
         "MEASURED: the node's aperture transform over %d polygons: area within %.1e, "
@@ -1277,74 +1291,68 @@ TEST_CASE("Uncoated faces' pattern: the face orders' regions and the energy", "[
     const f64::rp_material m = prepare_material(sanitize(p));
     double worstSector = 0, worstTiling = 0, worstParseval = 0;
     int regions = 0;
-    for (double thetaDeg : {0.0, 12.0, 25.0, 40.0})
-        for (double phiDeg : {0.0, 17.0, 75.0, 200.0}) {
-            const double th = thetaDeg * kDeg, ph = phiDeg * kDeg;
-            const glm::dvec3 d(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph),
-                               -std::cos(th));
-            const glm::dvec3 mk = f64::rp_aperture_bounds(m, d);
-            if (!(mk.x > 0)) continue;
-            const glm::dvec2 od = 0.5 * (mk.x * m.ap_v1 + mk.y * m.ap_v2 + mk.z * m.ap_v3);
-            const glm::dvec4 e1 = f64::rp_aperture_edge_ends(m.ap_v2, m.ap_v3, mk.y, mk.z, od);
-            const glm::dvec4 e2 = f64::rp_aperture_edge_ends(m.ap_v3, m.ap_v1, mk.z, mk.x, od);
-            const glm::dvec4 e3 = f64::rp_aperture_edge_ends(m.ap_v1, m.ap_v2, mk.x, mk.y, od);
-            const glm::dvec3 t = glm::min(glm::dvec3(1.0), mk / (glm::dvec3(2.0) - mk));
-            const glm::dvec2 r[3] = {t.x * (m.ap_v1 - od), t.y * (m.ap_v2 - od),
-                                     t.z * (m.ap_v3 - od)};
-            // T and T' relative to O_d, from its edges' ends.
-            wave::Polygon hex;
-            for (const glm::dvec4& e : {e1, e2, e3})
-                if (e != glm::dvec4(0.0))
-                    for (double sign : {1.0, -1.0}) {
-                        hex.push_back(sign * glm::dvec2(e.x, e.y));
-                        hex.push_back(sign * glm::dvec2(e.z, e.w));
-                    }
-            std::sort(hex.begin(), hex.end(), [](const glm::dvec2& a, const glm::dvec2& b) {
-                return std::atan2(a.y, a.x) < std::atan2(b.y, b.x);
-            });
-            hex.erase(std::unique(hex.begin(), hex.end(),
-                                  [](const glm::dvec2& a, const glm::dvec2& b) {
-                                      return glm::length(a - b) < 1e-12;
-                                  }),
-                      hex.end());
-            const wave::PolygonTransform whole(hex);
-            for (int i = 1; i <= 40; ++i) {
-                const double nu = 0.75 * i - 0.7, ang = 0.61 * i;
-                const glm::dvec2 dir(std::cos(ang), std::sin(ang));
-                const double qlen = 2.0 * kPi * nu;
-                cplx sum = 0.0;
-                for (int k = 0; k < 3; ++k) {
-                    const glm::dvec2 ra = r[(k + 1) % 3], rb = -r[k];
-                    const glm::dvec3 f =
-                        f64::rp_sector_transform(nu * dir, dir, qlen, ra, rb, e1, e2, e3);
-                    sum += cplx(f.x, f.y) + cplx(f.x, -f.y);
-                    // The region apart: T and T' on the inner side of both rays.
-                    wave::Polygon sector = hex;
-                    for (int side = 0; side < 2; ++side) {
-                        const bool ccw = ra.x * rb.y - ra.y * rb.x > 0;
-                        const glm::dvec2 u = side == 0 ? (ccw ? ra : rb) : (ccw ? rb : ra);
-                        std::vector<double> g;
-                        for (const glm::dvec2& v : sector)
-                            g.push_back(side == 0 ? u.x * v.y - u.y * v.x : v.x * u.y - v.y * u.x);
-                        sector = wave::clip_polygon(sector, g);
-                    }
-                    const double area = wave::polygon_area(hex);
-                    const cplx ref =
-                        sector.size() >= 3 ? wave::PolygonTransform(sector)(qlen * dir) : cplx(0.0);
-                    worstSector = std::max(worstSector, std::abs(cplx(f.x, f.y) - ref) / area);
-                    if (i == 1) {
-                        worstSector =
-                            std::max(worstSector,
-                                     std::abs(f.z - (sector.size() >= 3 ? wave::polygon_area(sector)
-                                                                        : 0.0)) /
-                                         area);
-                        ++regions;
-                    }
+    for (const InnerDirection& in : inner_directions()) {
+        const glm::dvec3& d = in.d;
+        const glm::dvec3 mk = f64::rp_aperture_bounds(m, d);
+        if (!(mk.x > 0)) continue;
+        const glm::dvec2 od = f64::rp_aperture_centre(m, mk);
+        glm::dvec4 e1, e2, e3;
+        f64::rp_aperture_edges(m, mk, od, e1, e2, e3);
+        const glm::dvec3 t = glm::min(glm::dvec3(1.0), mk / (glm::dvec3(2.0) - mk));
+        const glm::dvec2 r[3] = {t.x * (m.ap_v1 - od), t.y * (m.ap_v2 - od), t.z * (m.ap_v3 - od)};
+        // T and T' relative to O_d, from its edges' ends.
+        wave::Polygon hex;
+        for (const glm::dvec4& e : {e1, e2, e3})
+            if (e != glm::dvec4(0.0))
+                for (double sign : {1.0, -1.0}) {
+                    hex.push_back(sign * glm::dvec2(e.x, e.y));
+                    hex.push_back(sign * glm::dvec2(e.z, e.w));
                 }
-                worstTiling = std::max(worstTiling,
-                                       std::abs(sum - whole(qlen * dir)) / wave::polygon_area(hex));
+        std::sort(hex.begin(), hex.end(), [](const glm::dvec2& a, const glm::dvec2& b) {
+            return std::atan2(a.y, a.x) < std::atan2(b.y, b.x);
+        });
+        hex.erase(std::unique(hex.begin(), hex.end(),
+                              [](const glm::dvec2& a, const glm::dvec2& b) {
+                                  return glm::length(a - b) < 1e-12;
+                              }),
+                  hex.end());
+        const wave::PolygonTransform whole(hex);
+        for (int i = 1; i <= 40; ++i) {
+            const double nu = 0.75 * i - 0.7, ang = 0.61 * i;
+            const glm::dvec2 dir(std::cos(ang), std::sin(ang));
+            const double qlen = 2.0 * kPi * nu;
+            cplx sum = 0.0;
+            for (int k = 0; k < 3; ++k) {
+                const glm::dvec2 ra = r[(k + 1) % 3], rb = -r[k];
+                const glm::dvec3 f =
+                    f64::rp_sector_transform(nu * dir, dir, qlen, ra, rb, e1, e2, e3);
+                sum += cplx(f.x, f.y) + cplx(f.x, -f.y);
+                // The region apart: T and T' on the inner side of both rays.
+                wave::Polygon sector = hex;
+                for (int side = 0; side < 2; ++side) {
+                    const bool ccw = ra.x * rb.y - ra.y * rb.x > 0;
+                    const glm::dvec2 u = side == 0 ? (ccw ? ra : rb) : (ccw ? rb : ra);
+                    std::vector<double> g;
+                    for (const glm::dvec2& v : sector)
+                        g.push_back(side == 0 ? u.x * v.y - u.y * v.x : v.x * u.y - v.y * u.x);
+                    sector = wave::clip_polygon(sector, g);
+                }
+                const double area = wave::polygon_area(hex);
+                const cplx ref =
+                    sector.size() >= 3 ? wave::PolygonTransform(sector)(qlen * dir) : cplx(0.0);
+                worstSector = std::max(worstSector, std::abs(cplx(f.x, f.y) - ref) / area);
+                if (i == 1) {
+                    worstSector = std::max(
+                        worstSector,
+                        std::abs(f.z - (sector.size() >= 3 ? wave::polygon_area(sector) : 0.0)) /
+                            area);
+                    ++regions;
+                }
             }
+            worstTiling =
+                std::max(worstTiling, std::abs(sum - whole(qlen * dir)) / wave::polygon_area(hex));
         }
+    }
     // Parseval of the oriented prism's pattern.
     for (double entranceDeg : {0.0, 30.0}) {
         const double b = entranceDeg * kDeg;

@@ -3282,12 +3282,17 @@ float rp_aperture_area(vec3 mk) {
     return frac * RP_INV_SQRT3;
 }
 
+// O_d, the centre of T and T' (its point of symmetry) for the bounds mk, in the prism's frame.
+vec2 rp_aperture_centre(in rp_material m, vec3 mk) {
+    return float(0.5) * (mk.x * m.ap_v1 + mk.y * m.ap_v2 + mk.z * m.ap_v3);
+}
+
 vec4 rp_aperture_measures_at(in rp_material m, vec3 mk) {
     float area = rp_aperture_area(mk);
     float perim = rp_aperture_edge(mk.x, mk.y, mk.z) * m.ap_edge.x;
     perim += rp_aperture_edge(mk.y, mk.z, mk.x) * m.ap_edge.y;
     perim += rp_aperture_edge(mk.z, mk.x, mk.y) * m.ap_edge.z;
-    vec2 od = float(0.5) * (mk.x * m.ap_v1 + mk.y * m.ap_v2 + mk.z * m.ap_v3);
+    vec2 od = rp_aperture_centre(m, mk);
     vec3 t = min(vec3(float(1.0)), mk / (vec3(float(2.0)) - mk));
     float inner =
         t.x * length(m.ap_v1 - od) + t.y * length(m.ap_v2 - od) + t.z * length(m.ap_v3 - od);
@@ -3331,7 +3336,7 @@ vec2 rp_aperture_moments(in rp_material m, vec3 d, vec3 mk) {
     float dl = length(vec2(d.x, d.y));
     vec2 u = dl > float(0.0) ? vec2(d.x, d.y) / dl : vec2(float(1.0), float(0.0));
     vec2 w = vec2(-u.y, u.x);
-    vec2 od = float(0.5) * (mk.x * m.ap_v1 + mk.y * m.ap_v2 + mk.z * m.ap_v3);
+    vec2 od = rp_aperture_centre(m, mk);
     vec2 moments = vec2(float(0.0));
     // T's edge (l_k = 0, l_j = 1 - l_i), then T''s (l_k = m_k, l_j = 1 - m_k - l_i), k = 1, 2, 3.
     moments = rp_aperture_edge_moments(moments, m.ap_v1, m.ap_v2, m.ap_v3, float(0.0), mk.y, mk.z,
@@ -3379,7 +3384,7 @@ vec3 rp_diffraction_bounds_at(in rp_material m, vec3 dt, vec3 orient, int i,
                                     out vec2 cs) {
     float psi = orient.y + float(i) * orient.z;
     cs = vec2(cos(psi), sin(psi));
-    return rp_aperture_bounds(m, vec3(rp_prism_turn(cs, vec2(dt.x, dt.y)), dt.z));
+    return rp_aperture_bounds(m, rp_prism_turn(cs, dt));
 }
 
 // sin(2 pi t) / (2 pi t) (1 at 0; its series where (2 pi t)^2 < 1e-4, within rounding of the
@@ -3406,6 +3411,15 @@ vec4 rp_aperture_edge_ends(vec2 vi, vec2 vj, float mi, float mj, vec2 od) {
     return vec4(a, b);
 }
 
+// T's three edges' ends (rp_aperture_edge_ends, edge k opposite vertex k) for the bounds mk and
+// the centre od.
+void rp_aperture_edges(in rp_material m, vec3 mk, vec2 od, out vec4 e1,
+                             out vec4 e2, out vec4 e3) {
+    e1 = rp_aperture_edge_ends(m.ap_v2, m.ap_v3, mk.y, mk.z, od);
+    e2 = rp_aperture_edge_ends(m.ap_v3, m.ap_v1, mk.z, mk.x, od);
+    e3 = rp_aperture_edge_ends(m.ap_v1, m.ap_v2, mk.x, mk.y, od);
+}
+
 // The Fraunhofer transform's terms of T's edge k and of T''s edge k, its image through O_d, at
 // the spatial frequency q = 2 pi nu (radians per pitch; nu given, qhat its direction) for the
 // edge's ends e (rp_aperture_edge_ends): with c the edge's midpoint relative to O_d, D its vector
@@ -3425,13 +3439,12 @@ float rp_aperture_pair_transform(vec2 nu, vec2 qhat, vec4 e) {
 // rp_aperture_pair_transform. F at 0 is the area (the divergence theorem with the field
 // (qhat.x) qhat), every term bounded as nu goes to 0.
 float rp_aperture_transform(in rp_material m, vec3 mk, vec2 nu, vec2 qhat) {
-    vec2 od = float(0.5) * (mk.x * m.ap_v1 + mk.y * m.ap_v2 + mk.z * m.ap_v3);
-    return rp_aperture_pair_transform(nu, qhat,
-                                      rp_aperture_edge_ends(m.ap_v2, m.ap_v3, mk.y, mk.z, od)) +
-           rp_aperture_pair_transform(nu, qhat,
-                                      rp_aperture_edge_ends(m.ap_v3, m.ap_v1, mk.z, mk.x, od)) +
-           rp_aperture_pair_transform(nu, qhat,
-                                      rp_aperture_edge_ends(m.ap_v1, m.ap_v2, mk.x, mk.y, od));
+    vec4 e1;
+    vec4 e2;
+    vec4 e3;
+    rp_aperture_edges(m, mk, rp_aperture_centre(m, mk), e1, e2, e3);
+    return rp_aperture_pair_transform(nu, qhat, e1) + rp_aperture_pair_transform(nu, qhat, e2) +
+           rp_aperture_pair_transform(nu, qhat, e3);
 }
 
 // The interfering aperture's Fraunhofer pattern itself at nu (sheet-plane components of
@@ -3681,10 +3694,11 @@ vec2 rp_tir_prism_pattern(in rp_material m, vec3 es, vec3 ep, vec3 dt, vec3 xs, 
     vec2 qhat = rp_prism_turn(cs, dir);
     vec2 nuP = len * qhat;
     float qlen = float(2.0) * RP_PI * len;
-    vec2 od = float(0.5) * (mk.x * m.ap_v1 + mk.y * m.ap_v2 + mk.z * m.ap_v3);
-    vec4 e1 = rp_aperture_edge_ends(m.ap_v2, m.ap_v3, mk.y, mk.z, od);
-    vec4 e2 = rp_aperture_edge_ends(m.ap_v3, m.ap_v1, mk.z, mk.x, od);
-    vec4 e3 = rp_aperture_edge_ends(m.ap_v1, m.ap_v2, mk.x, mk.y, od);
+    vec2 od = rp_aperture_centre(m, mk);
+    vec4 e1;
+    vec4 e2;
+    vec4 e3;
+    rp_aperture_edges(m, mk, od, e1, e2, e3);
     // The rays' ends on the boundary: toward T's vertex k at t_k = min(1, m_k / (2 - m_k))
     // (rp_aperture_measures_at), toward T''s vertex k at minus that.
     vec3 t = min(vec3(float(1.0)), mk / (vec3(float(2.0)) - mk));
