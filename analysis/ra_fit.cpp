@@ -62,30 +62,41 @@ NmResult search(const std::vector<Var>& vars, const std::function<double()>& cos
     return search_box(f, box, box_starts(box, base), 150 + 100 * int(vars.size()));
 }
 
-double log_cost(const RaMeasurements& t, const std::vector<double>& model,
-                RaObjective objective = RaObjective::Rms) {
+// The objective's cost of `model` against the table (ra_fit.h): the mean square of
+// ln(model / measured), its largest square, or the largest square of model / measured - 1.
+double ra_cost(const RaMeasurements& t, const std::vector<double>& model,
+               RaObjective objective = RaObjective::Rms) {
     double sum = 0, largest = 0;
     for (size_t i = 0; i < model.size(); ++i) {
-        const double r = std::log(std::max(model[i], 1e-300)) - std::log(t.entries[i].ra);
+        const double m = std::max(model[i], 1e-300);
+        const double r = objective == RaObjective::Relative
+                             ? m / t.entries[i].ra - 1
+                             : std::log(m) - std::log(t.entries[i].ra);
         sum += r * r;
         largest = std::max(largest, r * r);
     }
-    if (objective == RaObjective::Max) return largest;
+    if (objective != RaObjective::Rms) return largest;
     return sum / double(std::max<size_t>(model.size(), 1));
 }
 
-// search() for `objective`: the least-squares search, and for the minimax objective, whose cost
-// has corners the simplex can stall on, a second search from the least-squares inputs; cost(o)
-// is the cost under objective o of the inputs as set. Evaluations of both searches.
+// search() for `objective`: the least-squares search, and for the minimax objectives, whose
+// cost has corners the simplex can stall on, a second search from the least-squares inputs,
+// kept only where its inputs as rounded (round_in_box) cost less than the least-squares ones:
+// a start on a bound enters the search a little inside it (search_box's logistic coordinates),
+// where the minimax cost can be higher than at the bound. cost(o) is the cost under objective o
+// of the inputs as set. Evaluations of both searches.
 NmResult search_for(std::vector<Var> vars, RaObjective objective,
                     const std::function<double(RaObjective)>& cost) {
-    NmResult r = search(vars, [&] { return cost(RaObjective::Rms); });
-    if (objective == RaObjective::Rms) return r;
-    const int evaluations = r.evaluations;
+    const NmResult squares = search(vars, [&] { return cost(RaObjective::Rms); });
+    if (objective == RaObjective::Rms) return squares;
     for (size_t i = 0; i < vars.size(); ++i)
-        vars[i].start = r.x[i];
-    r = search(vars, [&] { return cost(RaObjective::Max); });
-    r.evaluations += evaluations;
+        vars[i].start = squares.x[i];
+    NmResult r = search(vars, [&] { return cost(objective); });
+    r.evaluations += squares.evaluations;
+    set_all(vars, squares.x, true);
+    const double start = cost(objective);
+    set_all(vars, r.x, true);
+    if (!(cost(objective) < start)) r.x = squares.x;
     return r;
 }
 
@@ -162,7 +173,8 @@ const FitInfo& retro_color_fit() {
 }
 
 // retro_color = s chroma with s such that the mean of ln(model / measured) over `rows` is 0
-// (objective max: the mean of its largest and smallest), each channel kept in the fitted range
+// (objective max: the mean of its largest and smallest; relative: the largest and smallest
+// model / measured equally far from 1), each channel kept in the fitted range
 // and rounded to 6 digits (ra_fit.h, step 2).
 Color3 scaled_retro_color(Params p, const Color3& chroma, const RaMeasurements& rows,
                           RaObjective objective) {
@@ -185,6 +197,9 @@ Color3 scaled_retro_color(Params p, const Color3& chroma, const RaMeasurements& 
         }
         mean /= double(model.size());
         if (objective == RaObjective::Max) mean = 0.5 * (lo + hi);
+        // exp(hi) s' - 1 = 1 - exp(lo) s': the largest and smallest ratio equally far from 1.
+        if (objective == RaObjective::Relative)
+            mean = std::log(0.5 * (std::exp(lo) + std::exp(hi)));
         s *= std::exp(-mean);
         if (std::abs(mean) < 1e-9) break;
     }
@@ -205,11 +220,20 @@ Color3 color_chroma(bool hue, const Params& base) {
 RaObjective ra_objective(const std::string& name) {
     if (name == "rms") return RaObjective::Rms;
     if (name == "max") return RaObjective::Max;
-    throw InputError("--objective " + name + ": not one of rms, max");
+    if (name == "relative") return RaObjective::Relative;
+    throw InputError("--objective " + name + ": not one of rms, max, relative");
 }
 
 const char* ra_objective_name(RaObjective objective) {
-    return objective == RaObjective::Max ? "max" : "rms";
+    switch (objective) {
+    case RaObjective::Max:
+        return "max";
+    case RaObjective::Relative:
+        return "relative";
+    case RaObjective::Rms:
+        break;
+    }
+    return "rms";
 }
 
 std::vector<double> ra_node_values(const Params& material, const std::vector<RaEntry>& entries) {
@@ -243,7 +267,7 @@ RaFitReport ra_fit_report(const RaMeasurements& t, const std::vector<double>& mo
         r.error.push_back((model[i] - y) / y);
         r.max_error = std::max(r.max_error, std::abs(r.error.back()));
     }
-    r.log_rms = std::sqrt(log_cost(t, model));
+    r.log_rms = std::sqrt(ra_cost(t, model));
     return r;
 }
 
@@ -255,7 +279,7 @@ RaNodeFit fit_ra_node(const RaMeasurements& t, const Params& base,
     RaNodeFit fit;
     node_search_space(p, held, vars, choices, fit.fitted);
     require_rows(t, fit.fitted);
-    auto cost = [&](RaObjective o) { return log_cost(t, ra_node_values(p, t.entries), o); };
+    auto cost = [&](RaObjective o) { return ra_cost(t, ra_node_values(p, t.entries), o); };
     // Every combination of the discrete inputs, a search of the continuous ones for each.
     size_t combinations = 1;
     for (const Choice& c : choices)
@@ -293,9 +317,8 @@ RaMrmFit fit_ra_mrm(const RaMeasurements& t, RaObjective objective) {
     vars[1] = {{1.01, 3.0, false}, m.ior, [&](double x) { m.ior = x; }};
     vars[2] = {{0.0, 1.0, false}, m.specular, [&](double x) { m.specular = x; }};
     require_rows(t, {"roughness", "ior", "specular"});
-    const NmResult r = search_for(vars, objective, [&](RaObjective o) {
-        return log_cost(t, ra_mrm_values(m, t.entries), o);
-    });
+    const NmResult r = search_for(
+        vars, objective, [&](RaObjective o) { return ra_cost(t, ra_mrm_values(m, t.entries), o); });
     set_all(vars, r.x, true);
     fit.model = m;
     fit.evaluations = r.evaluations;

@@ -15,9 +15,14 @@
 //  - R_A of an entry: luminance Y of f cos(theta_i) cos(theta_o), at its rotation or the mean
 //    over rotations 0 and 90 degrees, by analysis/photometry.h (ra_at_entry).
 //  - Objective (RaObjective): the mean of (ln m - ln y)^2 over the entries, every entry alike
-//    (rms, the default), or the largest (ln m - ln y)^2 (max: minimax, for a table every entry
-//    of which is to be met within a bound; `fit --ra --objective max`). Coloured tables' scale
-//    s_C (below) then centres the colour's largest and smallest ln m - ln y instead of their mean.
+//    (rms, the default), the largest (ln m - ln y)^2 (max: minimax in the ratio, for a table
+//    every entry of which is to be met within a factor; `fit --ra --objective max`), or the
+//    largest (m / y - 1)^2 (relative: minimax in the report's error (m - y) / y, for a table
+//    every entry of which is to be met within a percentage; `--objective relative`). The
+//    minimax objectives are searched from the least-squares optimum, which they keep unless
+//    they find lower. Coloured tables' scale s_C (below) then centres the colour's largest and
+//    smallest ln m - ln y instead of their mean (max), or makes its largest and smallest m / y
+//    equally far from 1 (relative).
 //  - Optimiser (deterministic): search_box (util/minimize.h, Nelder-Mead in logistic
 //    coordinates, shared with the ALTA fitter) from the base values and from the centre and both
 //    sides of each input's range, restarted from the best until it improves by less than 1e-9
@@ -49,9 +54,10 @@
 
 namespace retroprism {
 
-enum class RaObjective { Rms, Max };
+enum class RaObjective { Rms, Max, Relative };
 
-// "rms" or "max"; InputError "--objective NAME: not one of rms, max" for any other name.
+// "rms", "max" or "relative"; InputError "--objective NAME: not one of rms, max, relative" for
+// any other name.
 RaObjective ra_objective(const std::string& name);
 const char* ra_objective_name(RaObjective objective);
 

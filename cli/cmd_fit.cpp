@@ -293,9 +293,13 @@ int fit_ra_table(const std::string& file, const Params& base, const RaFitOutputs
     std::printf("table: %s (%zu rows), R_A [cd lx^-1 m^-2]\n", t.file.c_str(), t.entries.size());
     for (const std::string& c : t.comments)
         std::printf("  # %s\n", c.c_str());
-    std::printf("objective: %s of ln(model / measured) over the rows, each row alike; rows "
-                "without a rotation angle: the mean over rotations 0 and 90 deg\n\n",
-                out.objective == RaObjective::Max ? "largest square" : "RMS");
+    // In RaObjective's order.
+    const char* objectives[] = {"RMS of ln(model / measured)",
+                                "largest square of ln(model / measured)",
+                                "largest |model - measured| / measured"};
+    std::printf("objective: %s over the rows, each row alike; rows without a rotation angle: the "
+                "mean over rotations 0 and 90 deg\n\n",
+                objectives[int(out.objective)]);
     std::printf("%-20s %-26s %-26s\n", "", "node (prismatic retroreflector)",
                 "mrm (retroreflective GGX + Lambert)");
     std::printf("%-20s %-26s %-26s\n", "fitted inputs", "from the parameter table",
@@ -348,7 +352,7 @@ int cmd_fit(int argc, const char** argv) {
                "ETA] [--paper-geometry] [--param-out NAME]\n       retroprism fit --ra TABLE.csv "
                "[--json] [--plot "
                "OUT.png] [--mtlx OUT.mtlx [--name NAME]] [--material BASE.json] [--hold NAME,...] "
-               "[--objective rms|max] [--color NAME]\n"
+               "[--objective rms|max|relative] [--color NAME]\n"
                "       retroprism "
                "fit "
                "--ra TABLE.csv --baseline-only [--json]");
@@ -384,7 +388,8 @@ int cmd_fit(int argc, const char** argv) {
         .help("--ra: fittable inputs (comma-separated) kept at the base material's value instead "
               "of fitted");
     ap.arg("--objective NAME")
-        .help("--ra: rms (default; the mean square of ln(model / measured)) or max (the largest)");
+        .help("--ra: rms (default; the mean square of ln(model / measured)), max (its largest "
+              "square) or relative (the largest |model - measured| / measured)");
     ap.arg("--color NAME")
         .help("--ra, a table with a color column: the colour of the material written and "
               "reported (default: white, or the table's first colour)");

@@ -417,7 +417,7 @@ TEST_CASE("fit --ra --baseline-only fits the GGX baseline alone; options of the 
     CHECK(contains(objective.output, "--objective goes with --ra TABLE.csv"));
     Run minimax = run("fit --ra " + table.string() + " --baseline-only --objective minimax");
     CHECK(minimax.status != 0);
-    CHECK(contains(minimax.output, "--objective minimax: not one of rms, max"));
+    CHECK(contains(minimax.output, "--objective minimax: not one of rms, max, relative"));
     Run largest = run("fit --ra " + table.string() + " --baseline-only --objective max");
     CHECK(largest.status == 0);
     // A table the reader refuses: its message, naming the file and line (what the view server
