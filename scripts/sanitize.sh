@@ -9,8 +9,9 @@
 # blocks run the same CLI paths as the `cli` entry), `materialx` (its time, 110 s here, is
 # MaterialX's own JavaScript, glslang and Mesa; the code of ours it runs, the document writer,
 # the C++ reference and the render runner, runs instrumented in `document` and in stress_ci's
-# materialx sweep) and the long accuracy sweeps `wave_ci`, `glsl_ci` and `lidar_ci`, which
-# repeat with more points the code paths their fast entries run here: the adversarial sweep
+# materialx sweep) and the long accuracy sweeps `wave_ci`, `glsl_ci`, `lidar_ci` and
+# `photometry_ci` (the standards' fits), which repeat with more points or fits the code paths
+# their fast entries run here: the adversarial sweep
 # `stress_ci` stays, its inputs being the ones the sanitizers are for. Arguments go to ctest
 # instead (e.g. -R cli). BUILD_DIR overrides the build folder.
 set -euo pipefail
@@ -47,5 +48,5 @@ if command -v llvm-symbolizer >/dev/null 2>&1; then
 fi
 
 cd "$build"
-if [ $# -eq 0 ]; then set -- -LE docs -E '^((wave|glsl|lidar)_ci|materialx)$'; fi
+if [ $# -eq 0 ]; then set -- -LE docs -E '^((wave|glsl|lidar|photometry)_ci|materialx)$'; fi
 ctest --output-on-failure --timeout 3600 -j2 "$@"

@@ -1282,15 +1282,16 @@ TEST_CASE("fit --ra: the prism pitch is recovered when the base has one", "[phot
 }
 
 TEST_CASE("fit --ra --objective max: the largest error is the minimax one", "[photometry]") {
-    // The DG983 table with the preset's base (uncoated prisms of 100 um, acrylic's dispersion):
-    // the minimax fit's largest error is at most the least-squares fit's, and its largest
-    // squared log error is what it minimised (no other fit of the same inputs found lower: the
-    // least-squares one is not); the names are checked.
+    // The DG983 table with the preset's base (uncoated prisms of 100 um, acrylic's dispersion,
+    // the fast tier): the minimax fit's largest error is at most the least-squares fit's, and
+    // its largest squared log error is what it minimised (no other fit of the same inputs found
+    // lower: the least-squares one is not); the names are checked.
     const RaMeasurements t = read_ra_table(source("examples/sheeting/dg983_white.csv"));
     Params base;
     base.prism_reflection = 1;
     base.abbe_number = 57;
     base.prism_pitch = 100;
+    base.fidelity = 1;
     const std::vector<std::string> held = {"prism_reflection", "dihedral_spread"};
     const RaNodeFit rms = fit_ra_node(t, base, held, RaObjective::Rms);
     const RaNodeFit max = fit_ra_node(t, base, held, RaObjective::Max);
@@ -1374,6 +1375,41 @@ TEST_CASE("fit --ra --objective relative: the largest error is the minimax one",
         if (c.retro_color[0] > 0.01 && c.retro_color[0] < 1)
             CHECK(std::abs(balance(c.report)) < 1e-3);
     }
+}
+
+TEST_CASE("Every bundled table reaching observation 1 degree is fitted within 30%",
+          "[photometry][ci]") {
+    // The standards' tables with entries at 1 degree or wider, fitted as docs/standards.md does
+    // (uncoated prisms of 100 um with acrylic's dispersion, the exact tier; prism_reflection and
+    // dihedral_spread held) with --objective relative: the largest |model - measured| / measured
+    // over the rows of the table's reference colour (white, or the whole table without colours)
+    // within 30%. The other colours keep that geometry with a scale of retro_color: printed,
+    // not asserted (a colour's minimums need not follow white's over the angles, and the base's
+    // white substrate sets a floor under a dark colour's minimums at 2 degrees).
+    Params base;
+    base.prism_reflection = 1;
+    base.abbe_number = 57;
+    base.prism_pitch = 100;
+    const std::vector<std::string> held = {"prism_reflection", "dihedral_spread"};
+    int wide = 0;
+    for (const std::string& name : standard_names()) {
+        const RaMeasurements t = read_standard(name);
+        if (std::none_of(t.entries.begin(), t.entries.end(),
+                         [](const RaEntry& e) { return e.observation_deg >= 1; }))
+            continue;
+        ++wide;
+        const RaColoredFit f = fit_ra_colors(t, base, held, "", RaObjective::Relative);
+        std::printf("MEASURED: %s: largest error %.1f%% over %zu rows (pitch %.4g um, cant %.3g "
+                    "deg, roughness %.3g)\n",
+                    name.c_str(), 100 * f.fit.report.max_error, f.rows.entries.size(),
+                    f.fit.params.prism_pitch, f.fit.params.cant_angle, f.fit.params.roughness);
+        for (const RaColorFit& c : f.colors)
+            std::printf("  colour %-7s retro_color %.4g: largest error %.1f%%\n", c.color.c_str(),
+                        c.retro_color[0], 100 * c.report.max_error);
+        INFO(name);
+        CHECK(f.fit.report.max_error <= 0.30);
+    }
+    CHECK(wide >= 3); // ISO 20471 and the Austrian types 1 and 2
 }
 
 TEST_CASE("The DG983 preset with diffraction: the table within 25%, light kept at 1 degree",
