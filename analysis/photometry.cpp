@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "photopic.h"
+
 namespace retroprism {
 
 namespace {
@@ -99,7 +101,7 @@ double ra_at_entry(const PrismaticRetroreflector<double>& node, const RaEntry& e
 }
 
 RaTable ra_table(const Params& material, double rotationDeg, const std::vector<double>& observation,
-                 const std::vector<double>& entrance) {
+                 const std::vector<double>& entrance, RaSpectrum spectrum) {
     // A few dozen directions: the azimuth averages integrated rather than tabulated.
     const PrismaticRetroreflector<double> node(
         ra_params(material), PrismaticRetroreflector<double>::Averages::Integrated);
@@ -107,12 +109,21 @@ RaTable ra_table(const Params& material, double rotationDeg, const std::vector<d
     t.observation = observation;
     t.entrance = entrance;
     t.rotation = rotationDeg;
-    for (double a : observation) {
-        std::vector<glm::dvec3> row;
-        for (double b : entrance)
-            row.push_back(ra_value(node, b, a, rotationDeg));
-        t.rgb.push_back(row);
+    t.rgb.assign(observation.size(), std::vector<glm::dvec3>(entrance.size(), glm::dvec3(0.0)));
+    auto fill = [&](const PrismaticRetroreflector<double>& n, double weight) {
+        for (size_t i = 0; i < observation.size(); ++i)
+            for (size_t j = 0; j < entrance.size(); ++j) {
+                const glm::dvec3 v = ra_value(n, entrance[j], observation[i], rotationDeg);
+                t.rgb[i][j] +=
+                    spectrum == RaSpectrum::Channels ? v : glm::dvec3(weight * luminance_709(v));
+            }
+    };
+    if (spectrum == RaSpectrum::Channels) {
+        fill(node, 1.0);
+        return t;
     }
+    for (size_t k = 0; k < photopic_weights().size(); ++k)
+        fill(node.at_wavelength(photopic_wavelengths_nm()[k]), photopic_weights()[k]);
     return t;
 }
 

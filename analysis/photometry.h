@@ -40,6 +40,15 @@ namespace retroprism {
 // Rec. 709 luminance Y of linear RGB.
 double luminance_709(const glm::dvec3& rgb);
 
+// How R_A's luminance is taken over wavelengths. Channels: luminance Y of the node's three
+// channels (at the material's `wavelength`, or at 610, 550 and 465 nm). Photopic: as a
+// photometer under illuminant A sees it (CIE 54.2), the sum over util/photopic.h's 15
+// wavelengths (410-690 nm) of their weights S_A V times Y of the node at that wavelength (every
+// channel there, so a coloured retro_color enters by its luminance), the material's own
+// `wavelength` replaced: the diffraction of prism_pitch, and the index with abbe_number, per
+// wavelength across the band instead of at three.
+enum class RaSpectrum { Channels, Photopic };
+
 // The standard table's angles (degrees).
 const std::vector<double>& ra_observation_angles(); // 0.2, 0.33, 0.5, 1.0, 1.5
 const std::vector<double>& ra_entrance_angles();    // -4, 15, 30, 40, 45
@@ -81,9 +90,11 @@ struct RaTable {
     std::vector<std::vector<glm::dvec3>> rgb; // [row][column]
 };
 
+// Photopic: every channel of the table holds the photopic R_A.
 RaTable ra_table(const Params& material, double rotationDeg,
                  const std::vector<double>& observation = ra_observation_angles(),
-                 const std::vector<double>& entrance = ra_entrance_angles());
+                 const std::vector<double>& entrance = ra_entrance_angles(),
+                 RaSpectrum spectrum = RaSpectrum::Channels);
 
 // A BRDF evaluated in batches (a backend): f(wi, wo) in RGB (1/sr, without the cosine) at each
 // (wi, wo) pair, directions in the node's local frame (normal +z, tangent +x).

@@ -11,6 +11,7 @@
 #include "error.h"
 #include "minimize.h"
 #include "photometry.h"
+#include "photopic.h"
 
 namespace retroprism {
 
@@ -177,7 +178,7 @@ const FitInfo& retro_color_fit() {
 // model / measured equally far from 1), each channel kept in the fitted range
 // and rounded to 6 digits (ra_fit.h, step 2).
 Color3 scaled_retro_color(Params p, const Color3& chroma, const RaMeasurements& rows,
-                          RaObjective objective) {
+                          RaObjective objective, RaSpectrum spectrum) {
     const FitInfo& range = retro_color_fit();
     double s = luminance_709(glm::dvec3(p.retro_color[0], p.retro_color[1], p.retro_color[2]));
     auto set = [&](double scale) {
@@ -187,7 +188,7 @@ Color3 scaled_retro_color(Params p, const Color3& chroma, const RaMeasurements& 
     };
     for (int iteration = 0; iteration < 30; ++iteration) {
         set(s);
-        const std::vector<double> model = ra_node_values(p, rows.entries);
+        const std::vector<double> model = ra_node_values(p, rows.entries, spectrum);
         double mean = 0, lo = std::numeric_limits<double>::infinity(), hi = -lo;
         for (size_t i = 0; i < model.size(); ++i) {
             const double r = std::log(std::max(model[i], 1e-300) / rows.entries[i].ra);
@@ -236,13 +237,23 @@ const char* ra_objective_name(RaObjective objective) {
     return "rms";
 }
 
-std::vector<double> ra_node_values(const Params& material, const std::vector<RaEntry>& entries) {
+std::vector<double> ra_node_values(const Params& material, const std::vector<RaEntry>& entries,
+                                   RaSpectrum spectrum) {
     // A few dozen directions: the azimuth averages integrated rather than tabulated.
     const PrismaticRetroreflector<double> node(
         ra_params(material), PrismaticRetroreflector<double>::Averages::Integrated);
     std::vector<double> v;
-    for (const RaEntry& e : entries)
-        v.push_back(ra_at_entry(node, e));
+    if (spectrum == RaSpectrum::Channels) {
+        for (const RaEntry& e : entries)
+            v.push_back(ra_at_entry(node, e));
+        return v;
+    }
+    v.assign(entries.size(), 0.0);
+    for (size_t k = 0; k < photopic_weights().size(); ++k) {
+        const PrismaticRetroreflector<double> at = node.at_wavelength(photopic_wavelengths_nm()[k]);
+        for (size_t i = 0; i < entries.size(); ++i)
+            v[i] += photopic_weights()[k] * ra_at_entry(at, entries[i]);
+    }
     return v;
 }
 
@@ -272,14 +283,17 @@ RaFitReport ra_fit_report(const RaMeasurements& t, const std::vector<double>& mo
 }
 
 RaNodeFit fit_ra_node(const RaMeasurements& t, const Params& base,
-                      const std::vector<std::string>& held, RaObjective objective) {
+                      const std::vector<std::string>& held, RaObjective objective,
+                      RaSpectrum spectrum) {
     Params p = base;
     std::vector<Var> vars;
     std::vector<Choice> choices;
     RaNodeFit fit;
     node_search_space(p, held, vars, choices, fit.fitted);
     require_rows(t, fit.fitted);
-    auto cost = [&](RaObjective o) { return ra_cost(t, ra_node_values(p, t.entries), o); };
+    auto cost = [&](RaObjective o) {
+        return ra_cost(t, ra_node_values(p, t.entries, spectrum), o);
+    };
     // Every combination of the discrete inputs, a search of the continuous ones for each.
     size_t combinations = 1;
     for (const Choice& c : choices)
@@ -305,7 +319,7 @@ RaNodeFit fit_ra_node(const RaMeasurements& t, const Params& base,
         }
     }
     fit.params = best;
-    fit.report = ra_fit_report(t, ra_node_values(best, t.entries));
+    fit.report = ra_fit_report(t, ra_node_values(best, t.entries, spectrum));
     return fit;
 }
 
@@ -328,12 +342,12 @@ RaMrmFit fit_ra_mrm(const RaMeasurements& t, RaObjective objective) {
 
 RaColoredFit fit_ra_colors(const RaMeasurements& t, const Params& base,
                            const std::vector<std::string>& held, const std::string& color,
-                           RaObjective objective) {
+                           RaObjective objective, RaSpectrum spectrum) {
     RaColoredFit out;
     const std::vector<std::string> colors = ra_table_colors(t);
     if (colors.empty()) {
         if (!color.empty()) ra_color_rows(t, color); // throws: the table has no colours
-        out.fit = fit_ra_node(t, base, held, objective);
+        out.fit = fit_ra_node(t, base, held, objective, spectrum);
         out.rows = t;
         return out;
     }
@@ -341,14 +355,14 @@ RaColoredFit fit_ra_colors(const RaMeasurements& t, const Params& base,
     const std::string reference = hasWhite ? "white" : colors.front();
     const std::string chosen = color.empty() ? reference : color;
     out.rows = ra_color_rows(t, chosen);
-    out.fit = fit_ra_node(ra_color_rows(t, reference), base, held, objective);
+    out.fit = fit_ra_node(ra_color_rows(t, reference), base, held, objective, spectrum);
     for (const std::string& c : colors) {
         const RaMeasurements rows = ra_color_rows(t, c);
         Params p = out.fit.params;
         const bool hue = c == chosen && c != "white";
-        p.retro_color = scaled_retro_color(p, color_chroma(hue, base), rows, objective);
-        out.colors.push_back(
-            {c, p.retro_color, hue, ra_fit_report(rows, ra_node_values(p, rows.entries))});
+        p.retro_color = scaled_retro_color(p, color_chroma(hue, base), rows, objective, spectrum);
+        out.colors.push_back({c, p.retro_color, hue,
+                              ra_fit_report(rows, ra_node_values(p, rows.entries, spectrum))});
         if (c == chosen) {
             out.fit.params = p;
             out.fit.report = out.colors.back().report;

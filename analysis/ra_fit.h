@@ -49,6 +49,7 @@
 #include <vector>
 
 #include "baselines.h"
+#include "photometry.h"
 #include "prismatic_retroreflector.h"
 #include "ra_table.h"
 
@@ -81,8 +82,10 @@ struct RaMrmFit {
     int evaluations = 0;
 };
 
-// R_A (Y) of the node built from ra_params(material), and of the baseline, at every entry.
-std::vector<double> ra_node_values(const Params& material, const std::vector<RaEntry>& entries);
+// R_A (Y) of the node built from ra_params(material), over the channels or photopic
+// (photometry.h's RaSpectrum), and of the baseline, at every entry.
+std::vector<double> ra_node_values(const Params& material, const std::vector<RaEntry>& entries,
+                                   RaSpectrum spectrum = RaSpectrum::Channels);
 std::vector<double> ra_mrm_values(const baselines::RetroreflectiveGGX& m,
                                   const std::vector<RaEntry>& entries);
 
@@ -93,7 +96,8 @@ RaFitReport ra_fit_report(const RaMeasurements& t, const std::vector<double>& mo
 // of the parameter table's RP_FIT inputs; InputError naming any other).
 RaNodeFit fit_ra_node(const RaMeasurements& t, const Params& base = Params(),
                       const std::vector<std::string>& held = {},
-                      RaObjective objective = RaObjective::Rms);
+                      RaObjective objective = RaObjective::Rms,
+                      RaSpectrum spectrum = RaSpectrum::Channels);
 RaMrmFit fit_ra_mrm(const RaMeasurements& t, RaObjective objective = RaObjective::Rms);
 
 struct RaColorFit {
@@ -115,6 +119,7 @@ struct RaColoredFit {
 // "FILE: no rows of colour C; the table's colours: ..." for a colour the table has not.
 RaColoredFit fit_ra_colors(const RaMeasurements& t, const Params& base = Params(),
                            const std::vector<std::string>& held = {}, const std::string& color = "",
-                           RaObjective objective = RaObjective::Rms);
+                           RaObjective objective = RaObjective::Rms,
+                           RaSpectrum spectrum = RaSpectrum::Channels);
 
 } // namespace retroprism

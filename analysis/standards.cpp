@@ -46,7 +46,7 @@ RaMeasurements read_standard(const std::string& name) {
 }
 
 StandardJudgement judge_standard(const RaMeasurements& table, const Params& material,
-                                 const std::string& color) {
+                                 const std::string& color, RaSpectrum spectrum) {
     const std::vector<std::string>& colors = ra_colors();
     if (std::find(colors.begin(), colors.end(), color) == colors.end())
         throw InputError("--color " + color + ": not a sheeting colour; expected one of " +
@@ -58,7 +58,7 @@ StandardJudgement judge_standard(const RaMeasurements& table, const Params& mate
     if (rows.entries.empty()) rows = ra_color_rows(table, color); // throws, naming the colours
     StandardJudgement j;
     j.color = color;
-    const std::vector<double> values = ra_node_values(material, rows.entries);
+    const std::vector<double> values = ra_node_values(material, rows.entries, spectrum);
     j.pass = true;
     for (size_t i = 0; i < rows.entries.size(); ++i) {
         StandardEntry s;

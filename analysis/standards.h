@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "photometry.h"
 #include "prismatic_retroreflector.h"
 #include "ra_table.h"
 
@@ -43,8 +44,10 @@ struct StandardJudgement {
 
 // The material against the table's rows of `color` (one of ra_colors()). InputError naming
 // the allowed colours for another name, and "FILE: no rows of colour C; the table's colours:
-// ..." when the table lists colours but not this one.
+// ..." when the table lists colours but not this one. R_A over the channels or photopic
+// (photometry.h's RaSpectrum).
 StandardJudgement judge_standard(const RaMeasurements& table, const Params& material,
-                                 const std::string& color = "white");
+                                 const std::string& color = "white",
+                                 RaSpectrum spectrum = RaSpectrum::Channels);
 
 } // namespace retroprism

@@ -39,6 +39,7 @@
 #include "alta_reader.h"
 #include "commands.h"
 #include "figure.h"
+#include "fit_json.h"
 #include "fit_plot.h"
 #include "fitting.h"
 #include "mtlx_writer.h"
@@ -58,32 +59,6 @@ namespace retroprism {
 namespace {
 
 constexpr double kDeg = M_PI / 180.0;
-
-json node_json(const NodeFitParams& p) {
-    const Params q = node_params(p);
-    json j = json::object();
-    j["roughness"] = q.roughness;
-    j["ior"] = q.ior;
-    j["specular"] = q.specular;
-    j["retro_color"] = q.retro_color;
-    j["diffuse_color"] = q.diffuse_color;
-    j["prism_reflection"] =
-        enum_values(*find_param("prism_reflection")).at(size_t(p.prism_reflection));
-    j["cant_angle"] = q.cant_angle;
-    j["dihedral_error"] = q.dihedral_error;
-    j["dihedral_spread"] = q.dihedral_spread;
-    return j;
-}
-
-json mrm_json(const baselines::RetroreflectiveGGX& m) {
-    json j = json::object();
-    j["roughness"] = m.roughness;
-    j["ior"] = m.ior;
-    j["specular"] = m.specular;
-    j["tint"] = {m.tint.x, m.tint.y, m.tint.z};
-    j["color"] = {m.color.x, m.color.y, m.color.z};
-    return j;
-}
 
 using Slice = plot::FitSlice;
 
@@ -197,64 +172,17 @@ struct RaFitOutputs {
     std::string plot, mtlx, name, color;
     std::vector<std::string> held; // --hold: fittable inputs kept at the base material's value
     RaObjective objective = RaObjective::Rms;
+    RaSpectrum spectrum = RaSpectrum::Channels;
     bool json = false;
     bool baselineOnly = false;
 };
-
-// The table's entry i as JSON: where it was measured and what it measured.
-json entry_json(const RaEntry& e) {
-    return {{"line", e.line},
-            {"observation_deg", e.observation_deg},
-            {"entrance_deg", e.entrance_deg},
-            {"rotation_deg", e.rotation_deg ? json(*e.rotation_deg) : json()},
-            {"presentation_deg", e.presentation_deg},
-            {"ra", e.ra}};
-}
-
-json mrm_fit_json(const RaMrmFit& mf) {
-    return {{"params", mrm_json(mf.model)},
-            {"log_rms", mf.report.log_rms},
-            {"max_error", mf.report.max_error}};
-}
-
-json ra_json(const RaMeasurements& t, const RaNodeFit& nf, const RaMrmFit& mf) {
-    json j = json::object();
-    j["table"] = t.file;
-    j["fitted"] = nf.fitted;
-    j["params"] = params_to_json(nf.params);
-    j["log_rms"] = nf.report.log_rms;
-    j["max_error"] = nf.report.max_error;
-    json entries = json::array();
-    for (size_t i = 0; i < t.entries.size(); ++i) {
-        json e = entry_json(t.entries[i]);
-        e["node"] = nf.report.model[i];
-        e["node_error"] = nf.report.error[i];
-        e["mrm"] = mf.report.model[i];
-        e["mrm_error"] = mf.report.error[i];
-        entries.push_back(e);
-    }
-    j["entries"] = entries;
-    j["mrm"] = mrm_fit_json(mf);
-    return j;
-}
 
 // --baseline-only: the baseline alone, its parameters and its R_A at every entry.
 int fit_ra_baseline(const std::string& file, bool asJson, RaObjective objective) {
     const RaMeasurements t = read_ra_table(file);
     const RaMrmFit mf = fit_ra_mrm(t, objective);
     if (asJson) {
-        json j = json::object();
-        j["table"] = t.file;
-        j["mrm"] = mrm_fit_json(mf);
-        json entries = json::array();
-        for (size_t i = 0; i < t.entries.size(); ++i) {
-            json e = entry_json(t.entries[i]);
-            e["mrm"] = mf.report.model[i];
-            e["mrm_error"] = mf.report.error[i];
-            entries.push_back(e);
-        }
-        j["mrm"]["entries"] = entries;
-        std::printf("%s\n", j.dump().c_str());
+        std::printf("%s\n", ra_baseline_json(t, mf).dump().c_str());
         return 0;
     }
     std::printf("table: %s (%zu rows), R_A [cd lx^-1 m^-2]\n", t.file.c_str(), t.entries.size());
@@ -269,7 +197,7 @@ int fit_ra_table(const std::string& file, const Params& base, const RaFitOutputs
     if (out.baselineOnly) return fit_ra_baseline(file, out.json, out.objective);
     const auto t0 = std::chrono::steady_clock::now();
     const RaColoredFit cf =
-        fit_ra_colors(read_ra_table(file), base, out.held, out.color, out.objective);
+        fit_ra_colors(read_ra_table(file), base, out.held, out.color, out.objective, out.spectrum);
     const RaMeasurements& t = cf.rows; // a coloured table: the rows of the colour fitted
     const RaNodeFit& nf = cf.fit;
     const RaMrmFit mf = fit_ra_mrm(t, out.objective);
@@ -282,12 +210,7 @@ int fit_ra_table(const std::string& file, const Params& base, const RaFitOutputs
         plot::write_png(plot::ra_fit_figure(t, nf, mf, text), out.plot);
     }
     if (out.json) {
-        json j = ra_json(t, nf, mf);
-        for (const RaColorFit& c : cf.colors)
-            j["colors"][c.color] = {{"retro_color", c.retro_color},
-                                    {"log_rms", c.report.log_rms},
-                                    {"max_error", c.report.max_error}};
-        std::printf("%s\n", j.dump().c_str());
+        std::printf("%s\n", ra_fit_json(cf, mf).dump().c_str());
         return 0;
     }
     std::printf("table: %s (%zu rows), R_A [cd lx^-1 m^-2]\n", t.file.c_str(), t.entries.size());
@@ -298,8 +221,11 @@ int fit_ra_table(const std::string& file, const Params& base, const RaFitOutputs
                                 "largest square of ln(model / measured)",
                                 "largest |model - measured| / measured"};
     std::printf("objective: %s over the rows, each row alike; rows without a rotation angle: the "
-                "mean over rotations 0 and 90 deg\n\n",
-                objectives[int(out.objective)]);
+                "mean over rotations 0 and 90 deg; the node's R_A %s\n\n",
+                objectives[int(out.objective)],
+                out.spectrum == RaSpectrum::Photopic
+                    ? "photopic (illuminant A x V(lambda) over 15 wavelengths, 410-690 nm)"
+                    : "the luminance of its channels");
     std::printf("%-20s %-26s %-26s\n", "", "node (prismatic retroreflector)",
                 "mrm (retroreflective GGX + Lambert)");
     std::printf("%-20s %-26s %-26s\n", "fitted inputs", "from the parameter table",
@@ -335,27 +261,20 @@ void require_folder(const std::string& option, const std::string& path) {
 
 int cmd_fit(int argc, const char** argv) {
     OIIO::ArgParse ap;
-    ap.intro(
-          "retroprism fit: fits the node (roughness, ior, specular, retro_color, "
-          "diffuse_color, prism_reflection, cant_angle, dihedral_error, dihedral_spread) and the "
-          "MaterialX-style "
-          "retroreflective GGX "
-          "baseline to measured BRDF x cos(theta_v) in the ALTA text format (#PARAM_IN "
-          "ISOTROPIC_TL_TV_PROJ_DPHI), weighting peaks and floor alike in log space, with the "
-          "instrument's angular resolution as a Gaussian blur. With --ra, fits the inputs the "
-          "parameter table declares fittable, and the baseline, to a table of R_A (CSV: "
-          "observation_deg, entrance_deg, ra, optional rotation_deg, presentation_deg and color) "
-          "in "
-          "log space; a coloured table's geometry on its white rows, each colour's retro_color "
-          "on its rows, with the hue of --material")
+    ap.intro("retroprism fit: fits the node (roughness, ior, specular, retro_color, diffuse_color, "
+             "prism_reflection, cant_angle, dihedral_error, dihedral_spread) and the "
+             "MaterialX-style retroreflective GGX baseline to measured BRDF x cos(theta_v) in the "
+             "ALTA text format (#PARAM_IN ISOTROPIC_TL_TV_PROJ_DPHI), weighting peaks and floor "
+             "alike in log space, with the instrument's angular resolution as a Gaussian blur. "
+             "With --ra, fits the inputs the parameter table declares fittable, and the baseline, "
+             "to a table of R_A (CSV: observation_deg, entrance_deg, ra, optional rotation_deg, "
+             "presentation_deg and color) in log space; a coloured table's geometry on its white "
+             "rows, each colour's retro_color on its rows, with the hue of --material")
         .usage("retroprism fit DATA.dat [--json] [--plot OUT.png] [--resolution FWHM_DEG] [--ior "
                "ETA] [--paper-geometry] [--param-out NAME]\n       retroprism fit --ra TABLE.csv "
-               "[--json] [--plot "
-               "OUT.png] [--mtlx OUT.mtlx [--name NAME]] [--material BASE.json] [--hold NAME,...] "
-               "[--objective rms|max|relative] [--color NAME]\n"
-               "       retroprism "
-               "fit "
-               "--ra TABLE.csv --baseline-only [--json]");
+               "[--json] [--plot OUT.png] [--mtlx OUT.mtlx [--name NAME]] [--material BASE.json] "
+               "[--hold NAME,...] [--objective rms|max|relative] [--photopic] [--color NAME]\n"
+               "       retroprism fit --ra TABLE.csv --baseline-only [--json]");
     std::string file;
     ap.arg("filename").hidden().action([&](OIIO::cspan<const char*> a) { file = a[0]; });
     ap.arg("--json")
@@ -393,6 +312,11 @@ int cmd_fit(int argc, const char** argv) {
     ap.arg("--color NAME")
         .help("--ra, a table with a color column: the colour of the material written and "
               "reported (default: white, or the table's first colour)");
+    ap.arg("--photopic")
+        .help("--ra: the node's R_A as a photometer under illuminant A sees it (15 wavelengths "
+              "410-690 nm weighted by illuminant A x V(lambda)) instead of the luminance of its "
+              "channels; the base material's wavelength is replaced")
+        .store_true();
     ap.arg("--baseline-only")
         .help("--ra: fit only the MaterialX-style GGX baseline (with --json: {\"table\", "
               "\"mrm\": {\"params\", \"log_rms\", \"max_error\", \"entries\"}})")
@@ -422,6 +346,12 @@ int cmd_fit(int argc, const char** argv) {
                 if (!ap[option].get<std::string>().empty())
                     throw InputError(std::string("--") + option +
                                      " goes with the node's fit, not --baseline-only");
+        if (ap["photopic"].get<int>()) {
+            if (out.baselineOnly)
+                throw InputError("--photopic goes with the node's fit, not --baseline-only (the "
+                                 "baseline does not depend on the wavelength)");
+            out.spectrum = RaSpectrum::Photopic;
+        }
         for (std::stringstream holds(ap["hold"].get<std::string>()); holds.good();) {
             std::string name;
             std::getline(holds, name, ',');
@@ -440,8 +370,9 @@ int cmd_fit(int argc, const char** argv) {
     for (const char* option : {"mtlx", "name", "material", "hold", "color", "objective"})
         if (!ap[option].get<std::string>().empty())
             throw InputError(std::string("--") + option + " goes with --ra TABLE.csv");
-    if (ap["baseline-only"].get<int>())
-        throw InputError("--baseline-only goes with --ra TABLE.csv");
+    for (const char* flag : {"baseline-only", "photopic"})
+        if (ap[flag].get<int>())
+            throw InputError(std::string("--") + flag + " goes with --ra TABLE.csv");
     if (file.empty())
         throw InputError("fit: give a data file in the ALTA text format, or --ra TABLE.csv");
 
@@ -468,14 +399,7 @@ int cmd_fit(int argc, const char** argv) {
             plotPath);
     }
     if (ap["json"].get<int>()) {
-        json j = json::object();
-        j["params"] = node_json(nf.params);
-        j["rel_rms"] = nf.report.rel_rms;
-        j["log_rms"] = nf.report.log_rms;
-        j["mrm"] = {{"params", mrm_json(mf.model)},
-                    {"rel_rms", mf.report.rel_rms},
-                    {"log_rms", mf.report.log_rms}};
-        std::printf("%s\n", j.dump().c_str());
+        std::printf("%s\n", fit_json(nf, mf).dump().c_str());
     } else {
         print_report(d, alta, o, nf, mf, seconds);
         if (!plotPath.empty()) std::printf("wrote %s\n", plotPath.c_str());

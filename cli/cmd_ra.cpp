@@ -32,9 +32,10 @@ int cmd_ra(int argc, const char** argv) {
              "the other side of the normal; observation angle alpha from the illumination axis "
              "to the observation axis in the same plane, the observer keeping its side of the "
              "source; rotation epsilon turns the sample about its normal)")
-        .usage("retroprism ra [--material FILE.json | --document DOC.mtlx [--name NAME]] "
-               "[--rotation DEG] [--wavelength NM] [--csv] [--rgb] [--table TABLE.csv | "
-               "--standard NAME [--color NAME]]");
+        .usage(
+            "retroprism ra [--material FILE.json | --document DOC.mtlx [--name NAME]] "
+            "[--rotation DEG] [--wavelength NM | --photopic] [--csv] [--rgb] [--table TABLE.csv | "
+            "--standard NAME [--color NAME]]");
     ap.arg("--material FILE").help("node inputs as a JSON object (default: all defaults)");
     ap.arg("--document FILE").help("a MaterialX document (.mtlx) instead of --material");
     ap.arg("--name NAME").help("the material of the document (default: its first)");
@@ -45,6 +46,11 @@ int cmd_ra(int argc, const char** argv) {
         .help("evaluate every channel at this wavelength in nm (the material's `wavelength` "
               "input: the diffraction of prism_pitch and, with abbe_number, the index), in "
               "(0, 2000]");
+    ap.arg("--photopic")
+        .help("R_A as a photometer under illuminant A sees it: the luminance over 15 wavelengths "
+              "410-690 nm weighted by illuminant A x V(lambda) (CIE 54.2), the material's "
+              "wavelength replaced; not with --wavelength or --rgb")
+        .store_true();
     ap.arg("--csv").help("CSV on standard output (Y and R, G, B per row)").store_true();
     ap.arg("--rgb").help("text: also the R, G and B tables").store_true();
     ap.arg("--table FILE")
@@ -89,11 +95,19 @@ int cmd_ra(int argc, const char** argv) {
             throw InputError("--wavelength " + nm + " is outside (0, 2000] nm");
         label += " at " + nm + " nm";
     }
+    const bool photopic = ap["photopic"].get<int>() != 0;
+    const RaSpectrum spectrum = photopic ? RaSpectrum::Photopic : RaSpectrum::Channels;
+    if (photopic) {
+        if (!nm.empty()) throw InputError("give either --wavelength NM or --photopic, not both");
+        if (ap["rgb"].get<int>())
+            throw InputError("--rgb: the photopic R_A is one luminance, not three channels");
+        label += ", photopic (illuminant A x V(lambda))";
+    }
     const std::string tableFile = ap["table"].get<std::string>();
     if (!standard.empty()) {
         if (!tableFile.empty()) throw InputError("give either --table or --standard, not both");
         const StandardJudgement j =
-            judge_standard(read_standard(standard), p, color.empty() ? "white" : color);
+            judge_standard(read_standard(standard), p, color.empty() ? "white" : color, spectrum);
         print_standard_judgement(standard, j, label, stdout);
         return 0;
     }
@@ -101,10 +115,11 @@ int cmd_ra(int argc, const char** argv) {
         const RaMeasurements m = read_ra_table(tableFile);
         std::printf("R_A [cd lx^-1 m^-2] of %s at the entries of %s\n", label.c_str(),
                     tableFile.c_str());
-        print_ra_comparison(m, {{"material", ra_node_values(p, m.entries)}}, stdout);
+        print_ra_comparison(m, {{"material", ra_node_values(p, m.entries, spectrum)}}, stdout);
         return 0;
     }
-    const RaTable t = ra_table(p, rotation);
+    const RaTable t =
+        ra_table(p, rotation, ra_observation_angles(), ra_entrance_angles(), spectrum);
     if (ap["csv"].get<int>())
         print_ra_csv(t, stdout);
     else

@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "cube_corner.h"
+#include "photopic.h"
 
 namespace retroprism {
 namespace sim {
@@ -284,16 +285,11 @@ double wave_ra(const WaveMaterial& m, double entranceDeg, double observationDeg,
 
 // ---- Photometry -----------------------------------------------------------------------------
 
-// CIE standard illuminant A, relative spectral power (100 at 560 nm), CIE 15:2004 Eq. 1:
-// S_A = 100 (560/lambda)^5 (exp(1.435e7 / (2848 * 560)) - 1) / (exp(1.435e7 / (2848 lambda)) - 1).
-double illuminant_a(double lambdaNm);
-// CIE 1924 photopic luminous efficiency V(lambda), the CIE's 10-nm table from 380 to 780 nm
-// interpolated linearly (0 outside).
-double photopic_v(double lambdaNm);
-// The photometric wavelengths: 410, 430, ..., 690 nm (midpoints of 20-nm bins over 400-700 nm)
-// and their weights S_A V, normalised to sum 1.
-const std::vector<double>& photopic_wavelengths_nm();
-const std::vector<double>& photopic_weights();
+// The photometric weighting (util/photopic.h), under the names the simulator has used.
+using retroprism::illuminant_a;
+using retroprism::photopic_v;
+using retroprism::photopic_wavelengths_nm;
+using retroprism::photopic_weights;
 // R_A weighted by illuminant A x V(lambda) over photopic_wavelengths_nm().
 std::vector<double> wave_ra_profile_photometric(const WaveMaterial& m, double entranceDeg,
                                                 const std::vector<double>& observationDeg,

@@ -33,6 +33,7 @@
 #include "mtlx_reader.h"
 #include "night_render.h"
 #include "photometry.h"
+#include "photopic.h"
 #include "query.h"
 #include "ra_fit.h"
 #include "ra_table.h"
@@ -373,6 +374,101 @@ TEST_CASE("retroprism ra: text and CSV answer the library's table", "[photometry
     Run rot = cli("ra --rotation ten");
     CHECK(rot.status != 0);
     CHECK(contains(rot.output, "--rotation ten: expected a finite number"));
+}
+
+TEST_CASE("Photopic R_A: illuminant A x V(lambda) over the band", "[photometry]") {
+    // R_A as a photometer under illuminant A sees it (RaSpectrum::Photopic): without a pitch or
+    // dispersion nothing in the node depends on the wavelength, so it is the channels' luminance
+    // (to rounding), a coloured retro_color included; with a pitch and acrylic's dispersion it is
+    // the weighted sum of R_A at each of the 15 wavelengths, made apart here with the material's
+    // own `wavelength` input (not at_wavelength), and lies between their least and largest; the
+    // table form and the standards' judgement take it; `ra --photopic` prints it and refuses
+    // --wavelength and --rgb.
+    const RaMeasurements t = read_ra_table(source("examples/standards/iso-20471.csv"));
+    Params grey;
+    grey.retro_color = {0.8, 0.6, 0.05};
+    grey.roughness = 0.01;
+    const std::vector<double> channels = ra_node_values(grey, t.entries);
+    const std::vector<double> flat = ra_node_values(grey, t.entries, RaSpectrum::Photopic);
+    double worstFlat = 0;
+    for (size_t i = 0; i < t.entries.size(); ++i)
+        worstFlat = std::max(worstFlat, std::abs(flat[i] / channels[i] - 1));
+    Params pitch;
+    pitch.prism_reflection = 1;
+    pitch.abbe_number = 57;
+    pitch.prism_pitch = 120;
+    pitch.roughness = 0.001;
+    const std::vector<double> photopic = ra_node_values(pitch, t.entries, RaSpectrum::Photopic);
+    std::vector<double> sum(t.entries.size(), 0.0), lo(t.entries.size(), 1e300),
+        hi(t.entries.size(), 0.0);
+    for (size_t k = 0; k < photopic_weights().size(); ++k) {
+        Params at = pitch;
+        at.wavelength = photopic_wavelengths_nm()[k];
+        const std::vector<double> v = ra_node_values(at, t.entries);
+        for (size_t i = 0; i < v.size(); ++i) {
+            sum[i] += photopic_weights()[k] * v[i];
+            lo[i] = std::min(lo[i], v[i]);
+            hi[i] = std::max(hi[i], v[i]);
+        }
+    }
+    double worstSum = 0, spread = 0;
+    const std::vector<double> rgb = ra_node_values(pitch, t.entries);
+    for (size_t i = 0; i < t.entries.size(); ++i) {
+        worstSum = std::max(worstSum, std::abs(photopic[i] / sum[i] - 1));
+        CHECK(photopic[i] >= lo[i]);
+        CHECK(photopic[i] <= hi[i]);
+        spread = std::max(spread, std::abs(photopic[i] / rgb[i] - 1));
+    }
+    std::printf("MEASURED: photopic R_A: without a pitch the channels' luminance within %.1e; with "
+                "a pitch the weighted sum within %.1e, and up to %.1f%% from the channels' "
+                "luminance (ISO 20471's entries, 120 um, roughness 0.001)\n",
+                worstFlat, worstSum, 100 * spread);
+    // Rounding of the two sums (15 terms against 3, relative 1e-16 each).
+    CHECK(worstFlat < 1e-12);
+    CHECK(worstSum < 1e-12);
+
+    // The table and the judgement take the same values.
+    const RaTable table = ra_table(pitch, 0.0, {0.2, 1.0}, {-4.0, 30.0}, RaSpectrum::Photopic);
+    RaEntry e;
+    e.observation_deg = 1.0;
+    e.entrance_deg = 30.0;
+    e.rotation_deg = 0.0;
+    e.ra = 1.0;
+    const double one = ra_node_values(pitch, {e}, RaSpectrum::Photopic)[0];
+    CHECK(table.rgb[1][1].x == Approx(one).epsilon(1e-12));
+    CHECK(table.rgb[1][1].y == table.rgb[1][1].x);
+    CHECK(table.rgb[1][1].z == table.rgb[1][1].x);
+    const StandardJudgement j = judge_standard(t, pitch, "white", RaSpectrum::Photopic);
+    REQUIRE(j.entries.size() == t.entries.size());
+    CHECK(j.entries[0].material == Approx(photopic[0]).epsilon(1e-12));
+
+    const fs::path dir = temp_dir("photopic");
+    const std::string material = (dir / "photopic.json").string();
+    {
+        std::ofstream f(material);
+        f << "{\"prism_reflection\": \"tir\", \"abbe_number\": 57, \"prism_pitch\": 120, "
+             "\"roughness\": 0.001}";
+    }
+    Run r = cli("ra --csv --photopic --material " + material);
+    REQUIRE(r.status == 0);
+    const RaTable whole =
+        ra_table(pitch, 0.0, ra_observation_angles(), ra_entrance_angles(), RaSpectrum::Photopic);
+    std::istringstream in(r.output);
+    std::string line;
+    std::getline(in, line);
+    REQUIRE(std::getline(in, line)); // 0.2 deg, -4 deg
+    CHECK(contains(line, "0.2,-4,0,"));
+    std::istringstream ls(line.substr(line.rfind(',') + 1));
+    double blue = 0;
+    ls >> blue;
+    CHECK(blue == Approx(whole.rgb[0][0].z).epsilon(1e-8));
+    Run both = cli("ra --photopic --wavelength 550 --material " + material);
+    CHECK(both.status != 0);
+    CHECK(contains(both.output, "give either --wavelength NM or --photopic, not both"));
+    Run rgbOut = cli("ra --photopic --rgb --material " + material);
+    CHECK(rgbOut.status != 0);
+    CHECK(contains(rgbOut.output, "--rgb: the photopic R_A is one luminance"));
+    fs::remove_all(dir);
 }
 
 TEST_CASE("ra --document: colours are converted from the document's colour space", "[photometry]") {

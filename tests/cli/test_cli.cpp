@@ -420,6 +420,12 @@ TEST_CASE("fit --ra --baseline-only fits the GGX baseline alone; options of the 
     CHECK(contains(minimax.output, "--objective minimax: not one of rms, max, relative"));
     Run largest = run("fit --ra " + table.string() + " --baseline-only --objective max");
     CHECK(largest.status == 0);
+    Run photopic = run("fit --ra " + table.string() + " --baseline-only --photopic");
+    CHECK(photopic.status != 0);
+    CHECK(contains(photopic.output, "--photopic goes with the node's fit, not --baseline-only"));
+    Run photopicAlta = run("fit " + table.string() + " --photopic");
+    CHECK(photopicAlta.status != 0);
+    CHECK(contains(photopicAlta.output, "--photopic goes with --ra TABLE.csv"));
     // A table the reader refuses: its message, naming the file and line (what the view server
     // passes on to the page).
     const fs::path zero =
