@@ -76,12 +76,15 @@ Node at_wavelength(const Node& node, const pyb::object& wavelength) {
 }
 
 pyb::dict ra_table_of(const Node& node0, double rotation, const pyb::handle& observation,
-                      const pyb::handle& entrance, const pyb::object& wavelength) {
+                      const pyb::handle& entrance, const pyb::object& wavelength, bool photopic) {
     if (!std::isfinite(rotation)) throw pyb::value_error("rotation: must be finite");
+    if (photopic && !wavelength.is_none())
+        throw pyb::value_error("give either wavelength=NM or photopic=True, not both");
     const Node node = at_wavelength(node0, wavelength);
     const RaTable t = ra_table(node.params, rotation,
                                angles_or(observation, "observation", ra_observation_angles()),
-                               angles_or(entrance, "entrance", ra_entrance_angles()));
+                               angles_or(entrance, "entrance", ra_entrance_angles()),
+                               photopic ? RaSpectrum::Photopic : RaSpectrum::Channels);
     const std::size_t rows = t.observation.size(), cols = t.entrance.size();
     pyb::array_t<double> rgb = new_array<double>({rows, cols, 3});
     pyb::array_t<double> y = new_array<double>({rows, cols});
@@ -183,10 +186,12 @@ void define_node(pyb::module_& m) {
             "Retroreflected fraction E = A R1 R2 R3 of the mean refracted direction (N,).")
         .def("ra_table", &ra_table_of, pyb::arg("rotation") = 0.0,
              pyb::arg("observation") = pyb::none(), pyb::arg("entrance") = pyb::none(),
-             pyb::arg("wavelength") = pyb::none(),
+             pyb::arg("wavelength") = pyb::none(), pyb::arg("photopic") = false,
              "Coefficient of retroreflection R_A (cd/lx/m^2) as `retroprism ra` computes it: "
              "{'observation', 'entrance' (degrees), 'rotation', 'rgb': (rows, columns, 3), 'Y': "
-             "(rows, columns)}; standard angles unless given.");
+             "(rows, columns)}; standard angles unless given. photopic=True: as a photometer "
+             "under illuminant A sees it (15 wavelengths weighted by illuminant A x V(lambda), "
+             "`ra --photopic`; every channel holds it).");
 }
 
 } // namespace

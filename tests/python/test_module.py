@@ -349,5 +349,15 @@ def test_wavelength_evaluates_the_diffraction_lobe_there():
     assert direct.eval(wi, wo)["retro"][0, 0] == infrared
     ra = node.ra_table(wavelength=905.0)
     assert ra["Y"].shape == (5, 5) and np.all(np.isfinite(ra["Y"]))
+    # Photopic R_A: a weighted mean over 410-690 nm, so within the band's least and largest;
+    # without a pitch nothing depends on the wavelength, so it is the channels' luminance.
+    photopic = node.ra_table(photopic=True)["Y"]
+    band = np.array([node.ra_table(wavelength=nm)["Y"] for nm in range(410, 700, 20)])
+    assert np.all(photopic >= band.min(axis=0)) and np.all(photopic <= band.max(axis=0))
+    plain = retroprism.Node(roughness=0.05)
+    assert np.allclose(plain.ra_table(photopic=True)["Y"], plain.ra_table()["Y"],
+                       rtol=1e-12, atol=0.0)
+    with pytest.raises(ValueError, match="photopic"):
+        node.ra_table(wavelength=550.0, photopic=True)
     with pytest.raises(ValueError, match="wavelength"):
         node.eval(wi, wo, wavelength=-5.0)
