@@ -1517,6 +1517,9 @@ TEST_CASE("The exact tier's damped pattern against its convolution with the geom
     for (int prism : {0, 1})
         for (double entranceDeg : {-4.0, 30.0})
             for (int ri = 0; ri < 3; ++ri) {
+                // Instrumented (scripts/sanitize.sh): the two smaller roughnesses, the same code
+                // (the largest one's grid is the longest).
+                if (rptest::kInstrumented && ri == 2) continue;
                 Params p;
                 p.prism_pitch = 100.0;
                 p.prism_reflection = prism;
@@ -1577,6 +1580,7 @@ TEST_CASE("The exact tier's damped pattern against its convolution with the geom
                     }
             }
     for (int ri = 0; ri < 3; ++ri) {
+        if (points[ri] == 0) continue;
         rms[ri] = std::sqrt(rms[ri] / points[ri]);
         rmsSmooth[ri] = std::sqrt(rmsSmooth[ri] / points[ri]);
         std::printf("MEASURED: exact tier against the pattern convolved with the lobe, roughness "
