@@ -100,6 +100,17 @@ double ra_at_entry(const PrismaticRetroreflector<double>& node, const RaEntry& e
         });
 }
 
+void for_each_wavelength(
+    const PrismaticRetroreflector<double>& node, RaSpectrum spectrum,
+    const std::function<void(const PrismaticRetroreflector<double>&, double)>& f) {
+    if (spectrum == RaSpectrum::Channels) {
+        f(node, 1.0);
+        return;
+    }
+    for (size_t k = 0; k < photopic_weights().size(); ++k)
+        f(node.at_wavelength(photopic_wavelengths_nm()[k]), photopic_weights()[k]);
+}
+
 RaTable ra_table(const Params& material, double rotationDeg, const std::vector<double>& observation,
                  const std::vector<double>& entrance, RaSpectrum spectrum) {
     // A few dozen directions: the azimuth averages integrated rather than tabulated.
@@ -110,20 +121,14 @@ RaTable ra_table(const Params& material, double rotationDeg, const std::vector<d
     t.entrance = entrance;
     t.rotation = rotationDeg;
     t.rgb.assign(observation.size(), std::vector<glm::dvec3>(entrance.size(), glm::dvec3(0.0)));
-    auto fill = [&](const PrismaticRetroreflector<double>& n, double weight) {
+    for_each_wavelength(node, spectrum, [&](const PrismaticRetroreflector<double>& n, double w) {
         for (size_t i = 0; i < observation.size(); ++i)
             for (size_t j = 0; j < entrance.size(); ++j) {
                 const glm::dvec3 v = ra_value(n, entrance[j], observation[i], rotationDeg);
                 t.rgb[i][j] +=
-                    spectrum == RaSpectrum::Channels ? v : glm::dvec3(weight * luminance_709(v));
+                    spectrum == RaSpectrum::Channels ? v : glm::dvec3(w * luminance_709(v));
             }
-    };
-    if (spectrum == RaSpectrum::Channels) {
-        fill(node, 1.0);
-        return t;
-    }
-    for (size_t k = 0; k < photopic_weights().size(); ++k)
-        fill(node.at_wavelength(photopic_wavelengths_nm()[k]), photopic_weights()[k]);
+    });
     return t;
 }
 

@@ -49,6 +49,13 @@ double luminance_709(const glm::dvec3& rgb);
 // wavelength across the band instead of at three.
 enum class RaSpectrum { Channels, Photopic };
 
+// f(node at a wavelength, its weight) over the spectrum's wavelengths: Channels, the node itself
+// with weight 1; Photopic, node.at_wavelength(lambda) with its weight for each of
+// photopic_wavelengths_nm() (util/photopic.h).
+void for_each_wavelength(
+    const PrismaticRetroreflector<double>& node, RaSpectrum spectrum,
+    const std::function<void(const PrismaticRetroreflector<double>&, double)>& f);
+
 // The standard table's angles (degrees).
 const std::vector<double>& ra_observation_angles(); // 0.2, 0.33, 0.5, 1.0, 1.5
 const std::vector<double>& ra_entrance_angles();    // -4, 15, 30, 40, 45

@@ -11,7 +11,6 @@
 #include "error.h"
 #include "minimize.h"
 #include "photometry.h"
-#include "photopic.h"
 
 namespace retroprism {
 
@@ -242,18 +241,11 @@ std::vector<double> ra_node_values(const Params& material, const std::vector<RaE
     // A few dozen directions: the azimuth averages integrated rather than tabulated.
     const PrismaticRetroreflector<double> node(
         ra_params(material), PrismaticRetroreflector<double>::Averages::Integrated);
-    std::vector<double> v;
-    if (spectrum == RaSpectrum::Channels) {
-        for (const RaEntry& e : entries)
-            v.push_back(ra_at_entry(node, e));
-        return v;
-    }
-    v.assign(entries.size(), 0.0);
-    for (size_t k = 0; k < photopic_weights().size(); ++k) {
-        const PrismaticRetroreflector<double> at = node.at_wavelength(photopic_wavelengths_nm()[k]);
+    std::vector<double> v(entries.size(), 0.0);
+    for_each_wavelength(node, spectrum, [&](const PrismaticRetroreflector<double>& n, double w) {
         for (size_t i = 0; i < entries.size(); ++i)
-            v[i] += photopic_weights()[k] * ra_at_entry(at, entries[i]);
-    }
+            v[i] += w * ra_at_entry(n, entries[i]);
+    });
     return v;
 }
 

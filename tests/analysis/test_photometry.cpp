@@ -1377,6 +1377,18 @@ TEST_CASE("fit --ra: the prism pitch is recovered when the base has one", "[phot
     CHECK(f.report.max_error < 1e-3);
 }
 
+namespace {
+
+// The largest |ln(model / measured)| of a fit's report over the table t.
+double largest_log_error(const RaMeasurements& t, const RaFitReport& r) {
+    double worst = 0;
+    for (size_t i = 0; i < r.model.size(); ++i)
+        worst = std::max(worst, std::abs(std::log(r.model[i] / t.entries[i].ra)));
+    return worst;
+}
+
+} // namespace
+
 TEST_CASE("fit --ra --objective max: the largest error is the minimax one", "[photometry]") {
     // The DG983 table with the preset's base (uncoated prisms of 100 um, acrylic's dispersion,
     // the fast tier): the minimax fit's largest error is at most the least-squares fit's, and
@@ -1391,17 +1403,11 @@ TEST_CASE("fit --ra --objective max: the largest error is the minimax one", "[ph
     const std::vector<std::string> held = {"prism_reflection", "dihedral_spread"};
     const RaNodeFit rms = fit_ra_node(t, base, held, RaObjective::Rms);
     const RaNodeFit max = fit_ra_node(t, base, held, RaObjective::Max);
-    auto largestLog = [&](const RaFitReport& r) {
-        double worst = 0;
-        for (size_t i = 0; i < r.model.size(); ++i)
-            worst = std::max(worst, std::abs(std::log(r.model[i] / t.entries[i].ra)));
-        return worst;
-    };
     std::printf("MEASURED: DG983 table, largest error: rms fit %.1f%%, max fit %.1f%%; log RMS "
                 "%.4f and %.4f\n",
                 100 * rms.report.max_error, 100 * max.report.max_error, rms.report.log_rms,
                 max.report.log_rms);
-    CHECK(largestLog(max.report) < largestLog(rms.report));
+    CHECK(largest_log_error(t, max.report) < largest_log_error(t, rms.report));
     CHECK(max.report.log_rms >= rms.report.log_rms * (1 - 1e-6));
     CHECK(ra_objective("rms") == RaObjective::Rms);
     CHECK(ra_objective("max") == RaObjective::Max);
@@ -1424,12 +1430,6 @@ TEST_CASE("fit --ra --objective relative: the largest error is the minimax one",
     base.prism_reflection = 1;
     base.abbe_number = 57;
     const std::vector<std::string> held = {"prism_reflection", "dihedral_spread"};
-    auto largestLog = [&](const RaFitReport& r) {
-        double worst = 0;
-        for (size_t i = 0; i < r.model.size(); ++i)
-            worst = std::max(worst, std::abs(std::log(r.model[i] / t.entries[i].ra)));
-        return worst;
-    };
     auto balance = [](const RaFitReport& r) {
         const auto [lo, hi] = std::minmax_element(r.error.begin(), r.error.end());
         return *hi + *lo; // 0 when the largest errors above and below are equal
@@ -1452,11 +1452,11 @@ TEST_CASE("fit --ra --objective relative: the largest error is the minimax one",
     CHECK(node[2].params.retro_color[0] < 1);
     CHECK(node[2].report.max_error <= node[0].report.max_error);
     CHECK(node[2].report.max_error <= node[1].report.max_error);
-    CHECK(largestLog(node[1].report) <= largestLog(node[0].report));
-    CHECK(largestLog(node[1].report) <= largestLog(node[2].report));
+    CHECK(largest_log_error(t, node[1].report) <= largest_log_error(t, node[0].report));
+    CHECK(largest_log_error(t, node[1].report) <= largest_log_error(t, node[2].report));
     CHECK(mrm[2].report.max_error <= mrm[0].report.max_error);
     CHECK(mrm[2].report.max_error <= mrm[1].report.max_error);
-    CHECK(largestLog(mrm[1].report) <= largestLog(mrm[0].report));
+    CHECK(largest_log_error(t, mrm[1].report) <= largest_log_error(t, mrm[0].report));
     CHECK(ra_objective("relative") == RaObjective::Relative);
     CHECK(std::string(ra_objective_name(RaObjective::Relative)) == "relative");
     CHECK(std::string(ra_objective_name(RaObjective::Rms)) == "rms");
